@@ -1,0 +1,2 @@
+//! stoneskip: a physically based stone-skipping simulator.
+pub mod sim;

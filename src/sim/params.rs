@@ -1,0 +1,636 @@
+//! Preset and its parts: the stone, the launch, the physics and the water (design.md §6, the preset
+//! contract), with the range checks that keep every run finite.
+//!
+//! Units are SI; angles are degrees here (the preset is an edge of the program) and radians everywhere
+//! inside `sim`. Every field has a default, so a preset may name only what it changes.
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// Errors from validating a preset: which field, what it holds and what was expected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("field `{field}`: {message}")]
+pub struct ParamError {
+    /// Dotted path of the field, e.g. `stone.mass`.
+    pub field: String,
+    /// What was wrong and what was expected.
+    pub message: String,
+}
+
+impl ParamError {
+    pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// One throw: everything a run needs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Preset {
+    pub version: u32,
+    pub name: String,
+    pub stone: StoneParams,
+    pub launch: Launch,
+    pub physics: Physics,
+    pub water: WaterParams,
+}
+
+impl Default for Preset {
+    fn default() -> Self {
+        Self {
+            version: 1,
+            name: "Default throw".to_owned(),
+            stone: StoneParams::default(),
+            launch: Launch::default(),
+            physics: Physics::default(),
+            water: WaterParams::default(),
+        }
+    }
+}
+
+/// The stone's shape (design.md §4). Body frame: symmetry axis = body z; a plate's length along body x.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Shape {
+    /// Flat-faced cylinder: the literature's disc.
+    Disk { radius: f64, thickness: f64 },
+    /// Ellipsoid of revolution with semi-axes (radius, radius, thickness/2): the paper's stone.
+    Lens { radius: f64, thickness: f64 },
+    /// Thin box: Bocquet's square plate.
+    Plate {
+        length: f64,
+        width: f64,
+        thickness: f64,
+    },
+}
+
+impl Shape {
+    /// Largest horizontal half-extent of the stone (m): the radius, or half the plate's diagonal.
+    pub fn half_extent(&self) -> f64 {
+        match *self {
+            Shape::Disk { radius, .. } | Shape::Lens { radius, .. } => radius,
+            Shape::Plate { length, width, .. } => 0.5 * (length * length + width * width).sqrt(),
+        }
+    }
+
+    pub fn thickness(&self) -> f64 {
+        match *self {
+            Shape::Disk { thickness, .. }
+            | Shape::Lens { thickness, .. }
+            | Shape::Plate { thickness, .. } => thickness,
+        }
+    }
+
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Shape::Disk { .. } => "Disk",
+            Shape::Lens { .. } => "Lens",
+            Shape::Plate { .. } => "Plate",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct StoneParams {
+    pub shape: Shape,
+    /// kg
+    pub mass: f64,
+    /// Rim resolution of the mesh.
+    pub segments: u32,
+}
+
+impl Default for StoneParams {
+    fn default() -> Self {
+        // A flat river stone: 5 cm radius, 1 cm thick, 100 g.
+        Self {
+            shape: Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            mass: 0.1,
+            segments: 32,
+        }
+    }
+}
+
+/// Attitude as three named angles in degrees (design.md §3):
+/// orientation = Rz(heading) · Rx(bank) · Ry(−tilt).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Attitude {
+    pub tilt_deg: f64,
+    pub bank_deg: f64,
+    pub heading_deg: f64,
+}
+
+impl Default for Attitude {
+    fn default() -> Self {
+        Self {
+            tilt_deg: 20.0,
+            bank_deg: 0.0,
+            heading_deg: 0.0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Launch {
+    /// m, centre of mass.
+    pub position: [f64; 3],
+    /// m/s.
+    pub velocity: [f64; 3],
+    pub attitude: Attitude,
+    /// rad/s about the stone's axis.
+    pub spin: f64,
+    /// rad/s, world frame, added to the spin (wobble).
+    pub angular_velocity: [f64; 3],
+}
+
+impl Default for Launch {
+    fn default() -> Self {
+        Self {
+            position: [0.0, 0.0, 0.3],
+            velocity: [10.0, 0.0, -1.0],
+            attitude: Attitude::default(),
+            spin: 60.0,
+            angular_velocity: [0.0; 3],
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ForceLaw {
+    /// Eqs. 11–24 as printed: ½ C_l ρ v_n² S normal, ½ C_f ρ |V_t|² S tangential.
+    Paper,
+    /// Bocquet 2003 eqs. 1–3: ½ C_l ρ U² S and ½ C_f ρ U² S.
+    Bocquet,
+    /// Rosellini et al. 2005 eq. 4.2: C_L ρ U max(0, v_n) S normal; friction as the paper.
+    Rosellini,
+}
+
+impl ForceLaw {
+    pub const ALL: [ForceLaw; 3] = [ForceLaw::Rosellini, ForceLaw::Paper, ForceLaw::Bocquet];
+
+    /// The law's default (C_l, C_f) (design.md §4).
+    pub fn default_coefficients(self) -> (f64, f64) {
+        match self {
+            ForceLaw::Rosellini => (0.5, 0.005),
+            ForceLaw::Paper => (1.4, 0.005),
+            ForceLaw::Bocquet => (1.0, 1.0),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Integrator {
+    /// Eqs. 30–38: forces at the start, velocity by Euler, position by the trapezoid.
+    Paper,
+    SymplecticEuler,
+    Rk4,
+    /// Exact flight, contact entry by root finding, error-controlled steps in contact.
+    Adaptive,
+}
+
+impl Integrator {
+    pub const ALL: [Integrator; 4] = [
+        Integrator::Paper,
+        Integrator::SymplecticEuler,
+        Integrator::Rk4,
+        Integrator::Adaptive,
+    ];
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Rotation {
+    /// Attitude held fixed (the paper; the high-spin limit).
+    Locked,
+    /// Free rigid body: torque, spin, gyroscope.
+    Free,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Physics {
+    /// m/s²
+    pub gravity: f64,
+    /// kg/m³
+    pub water_density: f64,
+    pub force_law: ForceLaw,
+    /// Omitted: the law's default.
+    #[serde(
+        deserialize_with = "de_plain_option",
+        serialize_with = "ser_plain_option",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub lift_coefficient: Option<f64>,
+    #[serde(
+        deserialize_with = "de_plain_option",
+        serialize_with = "ser_plain_option",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub friction_coefficient: Option<f64>,
+    /// Pressure and friction only on faces advancing into the water.
+    pub ventilated: bool,
+    pub integrator: Integrator,
+    /// Adaptive's relative error per step.
+    pub tolerance: f64,
+    pub rotation: Rotation,
+    /// s: the tick (fixed step; Adaptive's upper bound).
+    pub dt: f64,
+    /// s
+    pub max_time: f64,
+}
+
+impl Default for Physics {
+    fn default() -> Self {
+        Self {
+            gravity: 9.81,
+            water_density: 1000.0,
+            force_law: ForceLaw::Rosellini,
+            lift_coefficient: None,
+            friction_coefficient: None,
+            ventilated: true,
+            integrator: Integrator::Adaptive,
+            tolerance: 1e-6,
+            rotation: Rotation::Locked,
+            dt: 0.0005,
+            max_time: 20.0,
+        }
+    }
+}
+
+impl Physics {
+    /// (C_l, C_f) in force: the preset's, or the law's defaults.
+    pub fn coefficients(&self) -> (f64, f64) {
+        let (cl, cf) = self.force_law.default_coefficients();
+        (
+            self.lift_coefficient.unwrap_or(cl),
+            self.friction_coefficient.unwrap_or(cf),
+        )
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Limiter {
+    /// Mei et al. 2007's K factor per source column: exact conservation, V ≥ 0.
+    MassConserving,
+    /// The paper's eq. 41: a negative change is set to zero (creates or destroys water).
+    PaperClamp,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Swell {
+    /// m
+    pub amplitude: f64,
+    /// m
+    pub wavelength: f64,
+    /// Direction the swell travels, degrees from +x.
+    pub heading_deg: f64,
+}
+
+impl Default for Swell {
+    fn default() -> Self {
+        Self {
+            amplitude: 0.02,
+            wavelength: 3.0,
+            heading_deg: 90.0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WaterParams {
+    pub enabled: bool,
+    /// Contact and clipping against the water grid's height instead of z = 0.
+    pub wavy_contact: bool,
+    /// m (x, y)
+    pub size: [f64; 2],
+    /// The grid's −x, −y corner; omitted: launch point 2 m inside the −x edge, centred in y.
+    #[serde(
+        deserialize_with = "de_plain_option",
+        serialize_with = "ser_plain_option",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub origin: Option<[f64; 2]>,
+    /// m
+    pub cell: f64,
+    /// m: rest depth H (wave speed √(gH)).
+    pub depth: f64,
+    /// 1/s
+    pub damping: f64,
+    pub diagonal_pipes: bool,
+    pub limiter: Limiter,
+    pub swell: Option<Swell>,
+}
+
+impl Default for WaterParams {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            wavy_contact: false,
+            size: [40.0, 12.0],
+            origin: None,
+            cell: 0.05,
+            depth: 0.3,
+            damping: 0.05,
+            diagonal_pipes: true,
+            limiter: Limiter::MassConserving,
+            swell: None,
+        }
+    }
+}
+
+impl WaterParams {
+    /// The grid's −x, −y corner for a throw launched at `launch_xy`.
+    pub fn origin_for(&self, launch_xy: [f64; 2]) -> [f64; 2] {
+        self.origin
+            .unwrap_or([launch_xy[0] - 2.0, launch_xy[1] - 0.5 * self.size[1]])
+    }
+}
+
+/// Accepts a plain value (`0.5`) or `Some(0.5)` for an optional field, as the preset contract writes it.
+fn de_plain_option<'de, D, T>(deserializer: D) -> Result<Option<T>, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum PlainOrOption<T> {
+        Plain(T),
+        Option(Option<T>),
+    }
+    Ok(match PlainOrOption::<T>::deserialize(deserializer)? {
+        PlainOrOption::Plain(v) => Some(v),
+        PlainOrOption::Option(v) => v,
+    })
+}
+
+fn ser_plain_option<S, T>(value: &Option<T>, serializer: S) -> Result<S::Ok, S::Error>
+where
+    S: Serializer,
+    T: Serialize,
+{
+    match value {
+        Some(v) => v.serialize(serializer),
+        None => serializer.serialize_none(),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation
+// ---------------------------------------------------------------------------------------------
+
+/// Largest launch speed accepted (m/s): well past any human throw (record arm speed ≈ 22 m/s).
+pub const MAX_SPEED: f64 = 100.0;
+/// Largest spin accepted (rad/s): ≈ 80 rev/s, past the 65 rev/s of Clanet's launcher.
+pub const MAX_SPIN: f64 = 500.0;
+/// Tick bounds (s).
+pub const DT_RANGE: (f64, f64) = (1e-6, 0.05);
+/// Most columns a water grid may have (memory and real-time bound).
+pub const MAX_WATER_COLUMNS: usize = 4_000_000;
+
+fn check_range(field: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<(), ParamError> {
+    if !value.is_finite() {
+        return Err(ParamError::new(
+            field,
+            format!("expected a finite number in [{lo}, {hi}] {unit}, found {value}"),
+        ));
+    }
+    if value < lo || value > hi {
+        return Err(ParamError::new(
+            field,
+            format!("expected a number in [{lo}, {hi}] {unit}, found {value}"),
+        ));
+    }
+    Ok(())
+}
+
+fn check_positive(field: &str, value: f64, hi: f64, unit: &str) -> Result<(), ParamError> {
+    if !value.is_finite() || value <= 0.0 || value > hi {
+        return Err(ParamError::new(
+            field,
+            format!("expected a positive number up to {hi} {unit}, found {value}"),
+        ));
+    }
+    Ok(())
+}
+
+impl Preset {
+    /// Checks every field's range; the first problem found is returned.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if self.version != 1 {
+            return Err(ParamError::new(
+                "version",
+                format!("expected 1 (the only schema version), found {}", self.version),
+            ));
+        }
+        self.stone.validate()?;
+        self.launch.validate()?;
+        self.physics.validate()?;
+        self.water.validate()?;
+        Ok(())
+    }
+}
+
+impl StoneParams {
+    pub fn validate(&self) -> Result<(), ParamError> {
+        match self.shape {
+            Shape::Disk { radius, thickness } | Shape::Lens { radius, thickness } => {
+                check_positive("stone.shape.radius", radius, 1.0, "m")?;
+                check_positive("stone.shape.thickness", thickness, 0.5, "m")?;
+                if thickness > 2.0 * radius {
+                    return Err(ParamError::new(
+                        "stone.shape.thickness",
+                        format!(
+                            "expected at most the diameter {} m (a thin body of revolution), found {thickness}",
+                            2.0 * radius
+                        ),
+                    ));
+                }
+            }
+            Shape::Plate {
+                length,
+                width,
+                thickness,
+            } => {
+                check_positive("stone.shape.length", length, 2.0, "m")?;
+                check_positive("stone.shape.width", width, 2.0, "m")?;
+                check_positive("stone.shape.thickness", thickness, 0.5, "m")?;
+            }
+        }
+        check_positive("stone.mass", self.mass, 100.0, "kg")?;
+        if !(8..=256).contains(&self.segments) {
+            return Err(ParamError::new(
+                "stone.segments",
+                format!("expected an integer in [8, 256], found {}", self.segments),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Launch {
+    pub fn validate(&self) -> Result<(), ParamError> {
+        for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+            check_range(
+                &format!("launch.position.{axis}"),
+                self.position[i],
+                -1000.0,
+                1000.0,
+                "m",
+            )?;
+            check_range(
+                &format!("launch.velocity.{axis}"),
+                self.velocity[i],
+                -MAX_SPEED,
+                MAX_SPEED,
+                "m/s",
+            )?;
+            check_range(
+                &format!("launch.angular_velocity.{axis}"),
+                self.angular_velocity[i],
+                -MAX_SPIN,
+                MAX_SPIN,
+                "rad/s",
+            )?;
+        }
+        if self.position[2] < -0.5 || self.position[2] > 100.0 {
+            return Err(ParamError::new(
+                "launch.position.z",
+                format!(
+                    "expected a height in [-0.5, 100] m above the water, found {}",
+                    self.position[2]
+                ),
+            ));
+        }
+        let speed = (self.velocity[0].powi(2) + self.velocity[1].powi(2) + self.velocity[2].powi(2))
+            .sqrt();
+        if speed > MAX_SPEED {
+            return Err(ParamError::new(
+                "launch.velocity",
+                format!("expected a speed up to {MAX_SPEED} m/s, found {speed}"),
+            ));
+        }
+        check_range(
+            "launch.attitude.tilt_deg",
+            self.attitude.tilt_deg,
+            -90.0,
+            90.0,
+            "degrees",
+        )?;
+        check_range(
+            "launch.attitude.bank_deg",
+            self.attitude.bank_deg,
+            -90.0,
+            90.0,
+            "degrees",
+        )?;
+        check_range(
+            "launch.attitude.heading_deg",
+            self.attitude.heading_deg,
+            -360.0,
+            360.0,
+            "degrees",
+        )?;
+        check_range("launch.spin", self.spin, -MAX_SPIN, MAX_SPIN, "rad/s")?;
+        Ok(())
+    }
+}
+
+impl Physics {
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_range("physics.gravity", self.gravity, 0.0, 100.0, "m/s²")?;
+        check_positive("physics.water_density", self.water_density, 20_000.0, "kg/m³")?;
+        if let Some(cl) = self.lift_coefficient {
+            check_range("physics.lift_coefficient", cl, 0.0, 10.0, "")?;
+        }
+        if let Some(cf) = self.friction_coefficient {
+            check_range("physics.friction_coefficient", cf, 0.0, 10.0, "")?;
+        }
+        check_range("physics.tolerance", self.tolerance, 1e-12, 1e-2, "")?;
+        check_range("physics.dt", self.dt, DT_RANGE.0, DT_RANGE.1, "s")?;
+        check_positive("physics.max_time", self.max_time, 3600.0, "s")?;
+        Ok(())
+    }
+}
+
+impl WaterParams {
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_positive("water.size.x", self.size[0], 2000.0, "m")?;
+        check_positive("water.size.y", self.size[1], 2000.0, "m")?;
+        if let Some(o) = self.origin {
+            check_range("water.origin.x", o[0], -10_000.0, 10_000.0, "m")?;
+            check_range("water.origin.y", o[1], -10_000.0, 10_000.0, "m")?;
+        }
+        check_range("water.cell", self.cell, 0.005, 5.0, "m")?;
+        check_range("water.depth", self.depth, 0.01, 100.0, "m")?;
+        check_range("water.damping", self.damping, 0.0, 100.0, "1/s")?;
+        if self.enabled {
+            let nx = (self.size[0] / self.cell).ceil();
+            let ny = (self.size[1] / self.cell).ceil();
+            if nx < 4.0 || ny < 4.0 {
+                return Err(ParamError::new(
+                    "water.cell",
+                    format!("expected at least 4 cells across the grid, found {nx} × {ny}"),
+                ));
+            }
+            if nx * ny > MAX_WATER_COLUMNS as f64 {
+                return Err(ParamError::new(
+                    "water.cell",
+                    format!(
+                        "expected at most {MAX_WATER_COLUMNS} columns, found {} ({nx} × {ny}): use larger cells or a smaller lake",
+                        nx * ny
+                    ),
+                ));
+            }
+        }
+        if let Some(s) = self.swell {
+            check_range("water.swell.amplitude", s.amplitude, 0.0, 0.5 * self.depth, "m (half the depth at most)")?;
+            check_positive("water.swell.wavelength", s.wavelength, 1000.0, "m")?;
+            check_range("water.swell.heading_deg", s.heading_deg, -360.0, 360.0, "degrees")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_preset_is_valid() {
+        Preset::default().validate().unwrap();
+    }
+
+    #[test]
+    fn plain_and_some_coefficients_both_parse() {
+        let a: Physics = ron::from_str("(lift_coefficient: 0.7)").unwrap();
+        let b: Physics = ron::from_str("(lift_coefficient: Some(0.7))").unwrap();
+        assert_eq!(a.lift_coefficient, Some(0.7));
+        assert_eq!(b.lift_coefficient, Some(0.7));
+        let c: Physics = ron::from_str("()").unwrap();
+        assert_eq!(c.coefficients(), ForceLaw::Rosellini.default_coefficients());
+    }
+
+    #[test]
+    fn negative_mass_is_refused_with_field() {
+        let mut p = Preset::default();
+        p.stone.mass = -1.0;
+        let e = p.validate().unwrap_err();
+        assert_eq!(e.field, "stone.mass");
+    }
+
+    #[test]
+    fn nan_is_refused() {
+        let mut p = Preset::default();
+        p.launch.velocity[0] = f64::NAN;
+        assert_eq!(p.validate().unwrap_err().field, "launch.velocity.x");
+    }
+}
