@@ -1,1 +1,168 @@
-fn main(){}
+//! The `stoneskip` command line (design.md §7): the desktop app by default, and headless
+//! `simulate`, `render` and `study`.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+
+use stoneskip::preset;
+use stoneskip::report::{json_summary, text_summary, CsvWriter};
+use stoneskip::sim::params::Preset;
+use stoneskip::sim::{Simulation, StepSample};
+
+#[derive(Parser)]
+#[command(name = "stoneskip", version, about = "A physically based stone-skipping simulator")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Opens the desktop app (the default).
+    Gui {
+        /// Preset to load at start.
+        #[arg(long)]
+        preset: Option<PathBuf>,
+        /// Smoke test: render this many frames, then exit.
+        #[arg(long)]
+        frames: Option<u64>,
+    },
+    /// Runs a preset headless and prints a summary.
+    Simulate {
+        #[arg(long)]
+        preset: PathBuf,
+        /// One JSON object on stdout instead of the text summary.
+        #[arg(long)]
+        json: bool,
+        /// Writes the trajectory as CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+    },
+    /// Renders the scene at time T offscreen to a PNG.
+    Render {
+        #[arg(long)]
+        preset: PathBuf,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Simulated time of the picture (s).
+        #[arg(long, default_value_t = 0.0)]
+        time: f64,
+    },
+    /// Runs a study (accuracy, stability, phase, defaults) and writes CSV, PNG and Markdown.
+    Study {
+        name: String,
+        #[arg(long)]
+        out: PathBuf,
+        /// A small version for CI.
+        #[arg(long)]
+        quick: bool,
+    },
+}
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("stoneskip: error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        None => stoneskip::app::run_app(None, None),
+        Some(Command::Gui { preset, frames }) => stoneskip::app::run_app(preset, frames),
+        Some(Command::Simulate { preset, json, csv }) => simulate(&preset, json, csv.as_deref()),
+        Some(Command::Render {
+            preset,
+            out,
+            width,
+            height,
+            time,
+        }) => {
+            let p = preset::load(&preset)?;
+            stoneskip::render::render_to_png(&p, &out, width, height, time)
+                .with_context(|| format!("rendering {}", out.display()))
+        }
+        Some(Command::Study { name, out, quick }) => stoneskip::study::run_study(&name, &out, quick),
+    }
+}
+
+fn simulate(path: &Path, json: bool, csv: Option<&Path>) -> Result<()> {
+    let preset: Preset = preset::load(path)?;
+    let mut sim = Simulation::new(&preset).with_context(|| format!("{}", path.display()))?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let c = cancel.clone();
+        // Ctrl-C stops the run cleanly; failing to install the handler only loses that nicety.
+        let _ = ctrlc::set_handler(move || c.store(true, Ordering::SeqCst));
+    }
+    let mut writer = match csv {
+        Some(p) => {
+            let f = std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
+            let mut w = CsvWriter::new(
+                std::io::BufWriter::new(f),
+                sim.stone().clone(),
+                preset.physics.rotation,
+                preset.physics.gravity,
+            )?;
+            w.start(&StepSample {
+                time: 0.0,
+                state: *sim.state(),
+                angular_velocity: sim.angular_velocity(),
+                in_contact: sim.in_contact(),
+                wetted_area: 0.0,
+                force: glam::DVec3::ZERO,
+            })?;
+            Some(w)
+        }
+        None => None,
+    };
+    let started = Instant::now();
+    let mut last_report = started;
+    let mut io_error: Option<std::io::Error> = None;
+    while !sim.is_finished() && !cancel.load(Ordering::SeqCst) {
+        sim.tick_with(&mut |s| {
+            if let Some(w) = writer.as_mut() {
+                if io_error.is_none() {
+                    if let Err(e) = w.step(s) {
+                        io_error = Some(e);
+                    }
+                }
+            }
+        });
+        if let Some(e) = io_error.take() {
+            return Err(e).context("writing the CSV");
+        }
+        if last_report.elapsed().as_secs_f64() > 1.0 {
+            last_report = Instant::now();
+            eprintln!(
+                "t = {:.2} s simulated, {} skips so far ({:.1} s elapsed)",
+                sim.time(),
+                sim.skips(),
+                started.elapsed().as_secs_f64()
+            );
+        }
+    }
+    if let Some(w) = writer {
+        w.finish().context("writing the CSV")?;
+    }
+    if cancel.load(Ordering::SeqCst) {
+        eprintln!("stoneskip: interrupted at t = {:.3} s", sim.time());
+    }
+    let summary = sim.summary();
+    if json {
+        println!("{}", json_summary(&summary)?);
+    } else {
+        print!("{}", text_summary(&summary));
+    }
+    Ok(())
+}

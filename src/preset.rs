@@ -1,0 +1,243 @@
+//! Throw presets as RON files (design.md §6): load with errors that name the file, line, column
+//! and field and say what was expected; save atomically (a temporary file renamed over the old one,
+//! so an existing preset is never left half-written).
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::sim::params::{ParamError, Preset};
+
+/// Why a preset could not be read or written. Displayed as one line: `file:line:col: message`.
+#[derive(Debug, thiserror::Error)]
+pub enum PresetError {
+    #[error("{path}: cannot read the preset: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}:{line}:{col}: {message}")]
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        col: usize,
+        message: String,
+    },
+    #[error("{path}:{line}: {source}")]
+    Invalid {
+        path: PathBuf,
+        line: usize,
+        source: ParamError,
+    },
+    #[error("{path}: cannot save the preset: {message}")]
+    Write { path: PathBuf, message: String },
+}
+
+/// Reads and validates a preset file.
+pub fn load(path: &Path) -> Result<Preset, PresetError> {
+    let text = fs::read_to_string(path).map_err(|source| PresetError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    parse(&text, path)
+}
+
+/// Parses and validates preset text; `path` names it in messages.
+pub fn parse(text: &str, path: &Path) -> Result<Preset, PresetError> {
+    let preset: Preset = ron::Options::default()
+        .from_str(text)
+        .map_err(|e| PresetError::Syntax {
+            path: path.to_owned(),
+            line: e.span.start.line,
+            col: e.span.start.col,
+            message: explain(&e.code),
+        })?;
+    preset.validate().map_err(|source| PresetError::Invalid {
+        path: path.to_owned(),
+        line: locate_field(text, &source.field),
+        source,
+    })?;
+    Ok(preset)
+}
+
+/// RON's message, with what was expected spelled out for the common cases.
+fn explain(code: &ron::Error) -> String {
+    match code {
+        ron::Error::NoSuchStructField {
+            expected,
+            found,
+            outer,
+        } => format!(
+            "unknown field `{found}`{}; expected one of: {}",
+            outer
+                .as_ref()
+                .map(|o| format!(" in `{o}`"))
+                .unwrap_or_default(),
+            expected.join(", ")
+        ),
+        other => other.to_string(),
+    }
+}
+
+/// Best-effort line of a dotted field path (`stone.mass`) in the text: the first line naming the
+/// last component after the line naming the one before it. 1-based; 1 when not found.
+fn locate_field(text: &str, field: &str) -> usize {
+    let mut start_line = 0;
+    let parts: Vec<&str> = field.split('.').collect();
+    let mut found = None;
+    for part in &parts {
+        // Skip axis suffixes (position.x) that are not written as fields.
+        let needle = format!("{part}:");
+        let hit = text
+            .lines()
+            .enumerate()
+            .skip(start_line)
+            .find(|(_, l)| {
+                let l = l.split("//").next().unwrap_or("");
+                l.contains(&needle)
+            })
+            .map(|(i, _)| i);
+        if let Some(i) = hit {
+            start_line = i;
+            found = Some(i);
+        }
+    }
+    found.map_or(1, |i| i + 1)
+}
+
+/// Preset as pretty RON text.
+pub fn to_ron_string(preset: &Preset) -> Result<String, ron::Error> {
+    let config = ron::ser::PrettyConfig::new()
+        .struct_names(false)
+        .indentor("    ".to_owned());
+    ron::ser::to_string_pretty(preset, config)
+}
+
+/// Saves a preset atomically: write a temporary file beside the target, flush it to disk, then
+/// rename it over the target. On error the old file is untouched.
+pub fn save(path: &Path, preset: &Preset) -> Result<(), PresetError> {
+    let fail = |message: String| PresetError::Write {
+        path: path.to_owned(),
+        message,
+    };
+    preset.validate().map_err(|e| fail(e.to_string()))?;
+    let text = to_ron_string(preset).map_err(|e| fail(e.to_string()))?;
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| fail("expected a file name".to_owned()))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        file_name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| -> std::io::Result<()> {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.write_all(b"\n")?;
+        f.sync_all()?;
+        fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        // Best effort: the temporary file may not exist.
+        let _ = fs::remove_file(&tmp);
+        return Err(fail(e.to_string()));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_round_trips() {
+        let p = Preset::default();
+        let text = to_ron_string(&p).unwrap();
+        let q = parse(&text, Path::new("x.ron")).unwrap();
+        assert_eq!(p, q);
+    }
+
+    #[test]
+    fn design_example_parses() {
+        let text = r#"(
+    version: 1,
+    name: "Magic angle",
+    stone: (
+        shape: Disk(radius: 0.05, thickness: 0.01),
+        mass: 0.1,
+        segments: 32,
+    ),
+    launch: (
+        position: (0.0, 0.0, 0.3),
+        velocity: (8.0, 0.0, -0.6),
+        attitude: (tilt_deg: 20.0, bank_deg: 0.0, heading_deg: 0.0),
+        spin: 0.0,
+        angular_velocity: (0.0, 0.0, 0.0),
+    ),
+    physics: (
+        gravity: 9.81, water_density: 1000.0,
+        force_law: Rosellini,
+        lift_coefficient: 0.5, friction_coefficient: 0.005,
+        ventilated: true,
+        integrator: Adaptive,
+        tolerance: 1e-6,
+        rotation: Locked,
+        dt: 0.0005,
+        max_time: 20.0,
+    ),
+    water: (
+        enabled: true, wavy_contact: false,
+        size: (40.0, 12.0), origin: (-2.0, -6.0), cell: 0.05, depth: 0.3,
+        damping: 0.05,
+        diagonal_pipes: true, limiter: MassConserving,
+        swell: None,
+    ),
+)"#;
+        let p = parse(text, Path::new("magic.ron")).unwrap();
+        assert_eq!(p.name, "Magic angle");
+        assert_eq!(p.water.origin, Some([-2.0, -6.0]));
+        assert_eq!(p.physics.lift_coefficient, Some(0.5));
+        let swell = "(water: (swell: Some((amplitude: 0.02, wavelength: 3.0, heading_deg: 90.0))))";
+        let q = parse(swell, Path::new("s.ron")).unwrap();
+        assert!(q.water.swell.is_some());
+    }
+
+    #[test]
+    fn unknown_field_names_line_and_field() {
+        let text = "(\n  stone: (\n    mass: 0.1,\n    colour: 3,\n  ),\n)";
+        let e = parse(text, Path::new("bad.ron")).unwrap_err().to_string();
+        assert!(e.starts_with("bad.ron:4:"), "{e}");
+        assert!(e.contains("colour"), "{e}");
+        assert!(e.contains("expected one of"), "{e}");
+    }
+
+    #[test]
+    fn negative_mass_names_line_and_field() {
+        let text = "(\n  name: \"x\",\n  stone: (\n    mass: -0.1,\n  ),\n)";
+        let e = parse(text, Path::new("neg.ron")).unwrap_err().to_string();
+        assert!(e.starts_with("neg.ron:4:"), "{e}");
+        assert!(e.contains("stone.mass"), "{e}");
+        assert!(e.contains("expected a positive number"), "{e}");
+    }
+
+    #[test]
+    fn save_is_atomic_and_round_trips() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.ron");
+        let mut p = Preset::default();
+        p.name = "saved".into();
+        save(&path, &p).unwrap();
+        assert_eq!(load(&path).unwrap(), p);
+        // An invalid preset is refused and the old file is kept intact.
+        let mut bad = p.clone();
+        bad.stone.mass = f64::NAN;
+        assert!(save(&path, &bad).is_err());
+        assert_eq!(load(&path).unwrap(), p);
+        let leftovers = std::fs::read_dir(dir.path()).unwrap().count();
+        assert_eq!(leftovers, 1, "no temporary files left behind");
+    }
+}

@@ -1,0 +1,163 @@
+//! Reports of a run: the readable summary, the JSON object and the trajectory CSV of
+//! `stoneskip simulate` (design.md §7, contract).
+
+use std::io::Write;
+
+use glam::DVec3;
+
+use crate::sim::integrate::{flight, BodyState};
+use crate::sim::params::Rotation;
+use crate::sim::stone::Stone;
+use crate::sim::{StepSample, Summary};
+
+/// The CSV header (design.md §7).
+pub const CSV_HEADER: &str =
+    "t,x,y,z,vx,vy,vz,qw,qx,qy,qz,wx,wy,wz,in_contact,wetted_area,fx,fy,fz";
+
+/// Longest gap between two CSV rows in flight (s).
+pub const CSV_FLIGHT_INTERVAL: f64 = 1.0 / 240.0;
+
+/// Human-readable summary with a table of contacts.
+pub fn text_summary(s: &Summary) -> String {
+    let mut out = String::new();
+    let outcome = s.outcome.map_or("running", |o| o.as_str());
+    out.push_str(&format!("{}\n", s.name));
+    out.push_str(&format!(
+        "outcome {outcome}, {} skip{}, distance {:.3} m, time {:.4} s ({} steps, {} force evaluations)\n",
+        s.skips,
+        if s.skips == 1 { "" } else { "s" },
+        s.distance,
+        s.final_time,
+        s.steps,
+        s.force_evals
+    ));
+    if let Some(w) = &s.water {
+        let drift = if w.volume_initial > 0.0 {
+            (w.volume_final - w.volume_initial) / w.volume_initial
+        } else {
+            0.0
+        };
+        out.push_str(&format!(
+            "water volume {:.6} m³ -> {:.6} m³ (relative change {drift:.2e})\n",
+            w.volume_initial, w.volume_final
+        ));
+    }
+    if !s.contacts.is_empty() {
+        out.push_str(
+            "  #   t_start    t_end   dur(ms)      x       y   speed_in  beta_in  tilt_in  speed_out  skip\n",
+        );
+        for (i, c) in s.contacts.iter().enumerate() {
+            let vin = DVec3::from_array(c.v_in).length();
+            let vout = DVec3::from_array(c.v_out).length();
+            out.push_str(&format!(
+                "{:>3} {:>9.4} {:>8.4} {:>8.2} {:>7.3} {:>7.3} {:>9.3} {:>8.2} {:>8.2} {:>10.3}  {}\n",
+                i + 1,
+                c.t_start,
+                c.t_end,
+                1000.0 * (c.t_end - c.t_start),
+                c.x,
+                c.y,
+                vin,
+                c.beta_in,
+                c.attitude_in[0],
+                vout,
+                if c.skip { "yes" } else { "no" }
+            ));
+        }
+    }
+    out
+}
+
+/// JSON object of a run (design.md §7).
+pub fn json_summary(s: &Summary) -> Result<String, serde_json::Error> {
+    serde_json::to_string_pretty(s)
+}
+
+/// Writes the trajectory CSV: a row per accepted step, and flight rows in between so that no gap
+/// in flight exceeds [`CSV_FLIGHT_INTERVAL`].
+pub struct CsvWriter<W: Write> {
+    out: W,
+    last: Option<StepSample>,
+    stone: Stone,
+    rotation: Rotation,
+    gravity: f64,
+}
+
+impl<W: Write> CsvWriter<W> {
+    pub fn new(mut out: W, stone: Stone, rotation: Rotation, gravity: f64) -> std::io::Result<Self> {
+        writeln!(out, "{CSV_HEADER}")?;
+        Ok(Self {
+            out,
+            last: None,
+            stone,
+            rotation,
+            gravity,
+        })
+    }
+
+    /// Writes the first row (the launch state).
+    pub fn start(&mut self, sample: &StepSample) -> std::io::Result<()> {
+        self.row(sample)?;
+        self.last = Some(*sample);
+        Ok(())
+    }
+
+    pub fn step(&mut self, sample: &StepSample) -> std::io::Result<()> {
+        if let Some(prev) = self.last {
+            let gap = sample.time - prev.time;
+            if !prev.in_contact && !sample.in_contact && gap > CSV_FLIGHT_INTERVAL {
+                let n = (gap / CSV_FLIGHT_INTERVAL).ceil() as usize;
+                for k in 1..n {
+                    let t = gap * k as f64 / n as f64;
+                    let st: BodyState = flight(&self.stone, self.rotation, self.gravity, &prev.state, t);
+                    self.row(&StepSample {
+                        time: prev.time + t,
+                        state: st,
+                        in_contact: false,
+                        wetted_area: 0.0,
+                        force: DVec3::ZERO,
+                        ..prev
+                    })?;
+                }
+            }
+        }
+        self.row(sample)?;
+        self.last = Some(*sample);
+        Ok(())
+    }
+
+    fn row(&mut self, s: &StepSample) -> std::io::Result<()> {
+        let p = s.state.position;
+        let v = s.state.velocity;
+        let q = s.state.orientation;
+        let w = s.angular_velocity;
+        writeln!(
+            self.out,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            s.time,
+            p.x,
+            p.y,
+            p.z,
+            v.x,
+            v.y,
+            v.z,
+            q.w,
+            q.x,
+            q.y,
+            q.z,
+            w.x,
+            w.y,
+            w.z,
+            u8::from(s.in_contact),
+            s.wetted_area,
+            s.force.x,
+            s.force.y,
+            s.force.z
+        )
+    }
+
+    pub fn finish(mut self) -> std::io::Result<W> {
+        self.out.flush()?;
+        Ok(self.out)
+    }
+}

@@ -1,0 +1,290 @@
+//! Force laws per wetted triangle and their sums (paper eqs. 11–26; design.md §4).
+//!
+//! For a wetted triangle with outward unit normal N, wetted area S, local velocity v at the wetted
+//! centroid (v = V + ω × r), v_n = v·N, V_t = v − v_n N and U = |V| the centre-of-mass speed:
+//! - Paper law (eqs. 17–18; eq. 17 reads C_l ρ_w): F_n = ½ C_l ρ v_n² S, F_t = ½ C_f ρ |V_t|² S;
+//! - Bocquet law (eqs. 1–3): ½ C_l ρ U² S and ½ C_f ρ U² S;
+//! - Rosellini law (Rosellini et al. 2005, eq. 4.2): C_l ρ U max(0, v_n) S, friction as the paper.
+//!
+//! The normal force acts along −N (eq. 19), friction along −V_t/|V_t| (eqs. 20–23); a zero |V_t|
+//! gives zero friction. With ventilation, a face receding from the water (v_n ≤ 0) sits in the air
+//! cavity and gets neither pressure nor friction.
+
+use glam::{DQuat, DVec3};
+
+use super::contact::clip_triangle;
+use super::params::{ForceLaw, Physics};
+use super::stone::Stone;
+
+/// The constants of one force evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HydroParams {
+    pub law: ForceLaw,
+    pub lift: f64,
+    pub friction: f64,
+    pub density: f64,
+    pub ventilated: bool,
+}
+
+impl HydroParams {
+    pub fn from_physics(p: &Physics) -> Self {
+        let (lift, friction) = p.coefficients();
+        Self {
+            law: p.force_law,
+            lift,
+            friction,
+            density: p.water_density,
+            ventilated: p.ventilated,
+        }
+    }
+}
+
+/// Water force on one wetted face (eq. 24): normal N (unit, outward), wetted area S, local
+/// velocity v, centre-of-mass speed U.
+pub fn face_force(hp: &HydroParams, normal: DVec3, area: f64, v: DVec3, speed: f64) -> DVec3 {
+    let vn = v.dot(normal);
+    if hp.ventilated && vn <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let half_rho_s = 0.5 * hp.density * area;
+    let vt = v - normal * vn;
+    let vt_len = vt.length();
+    let (pressure, friction) = match hp.law {
+        ForceLaw::Paper => (hp.lift * half_rho_s * vn * vn, hp.friction * half_rho_s * vt_len * vt_len),
+        ForceLaw::Bocquet => (
+            hp.lift * half_rho_s * speed * speed,
+            hp.friction * half_rho_s * speed * speed,
+        ),
+        ForceLaw::Rosellini => (
+            hp.lift * hp.density * area * speed * vn.max(0.0),
+            hp.friction * half_rho_s * vt_len * vt_len,
+        ),
+    };
+    let mut f = -normal * pressure;
+    if vt_len > 0.0 {
+        f -= vt * (friction / vt_len);
+    }
+    f
+}
+
+/// The water surface as the stone sees it: signed height above it of a world point.
+pub trait Surface {
+    /// Surface elevation η at (x, y).
+    fn height(&self, x: f64, y: f64) -> f64;
+    /// An upper bound of η over the whole surface (for cheap rejection).
+    fn max_height(&self) -> f64;
+}
+
+/// The water at rest: z = 0.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FlatSurface;
+
+impl Surface for FlatSurface {
+    fn height(&self, _x: f64, _y: f64) -> f64 {
+        0.0
+    }
+    fn max_height(&self) -> f64 {
+        0.0
+    }
+}
+
+/// Sum of the water's forces over the wetted triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ForceSum {
+    /// N (world frame)
+    pub force: DVec3,
+    /// N m about the centre of mass (world frame)
+    pub torque: DVec3,
+    /// m²
+    pub wetted_area: f64,
+    /// Any vertex at or below the surface.
+    pub in_contact: bool,
+}
+
+/// Kinematic state needed to evaluate forces.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    pub position: DVec3,
+    pub velocity: DVec3,
+    pub orientation: DQuat,
+    pub angular_velocity: DVec3,
+}
+
+/// Reusable buffers for force evaluation (no allocation per call).
+#[derive(Debug, Clone, Default)]
+pub struct Scratch {
+    world: Vec<DVec3>,
+    height: Vec<f64>,
+    /// (x, y, F_z on the stone) of each loaded face at the last recorded evaluation.
+    pub loads: Vec<(f64, f64, f64)>,
+}
+
+/// Signed height of the stone's lowest vertex above the surface, and the world vertex positions.
+pub fn lowest_clearance(stone: &Stone, position: DVec3, orientation: DQuat, surface: &dyn Surface) -> f64 {
+    let rot = glam::DMat3::from_quat(orientation);
+    if position.z - stone.bounding_radius > surface.max_height() {
+        return position.z - stone.bounding_radius - surface.max_height();
+    }
+    stone
+        .mesh
+        .positions
+        .iter()
+        .map(|&p| {
+            let w = position + rot * p;
+            w.z - surface.height(w.x, w.y)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// True when every vertex of the faces whose outward normal points down is below the surface: the
+/// full immersion of the underside at which the stone loses its lift (design.md §4 "sank").
+pub fn underside_submerged(stone: &Stone, position: DVec3, orientation: DQuat, surface: &dyn Surface) -> bool {
+    let rot = glam::DMat3::from_quat(orientation);
+    let mut any_down = false;
+    for (t, tri) in stone.mesh.triangles.iter().enumerate() {
+        let n = rot * stone.normals[t];
+        if n.z >= 0.0 {
+            continue;
+        }
+        any_down = true;
+        for &i in tri {
+            let w = position + rot * stone.mesh.positions[i as usize];
+            if w.z >= surface.height(w.x, w.y) {
+                return false;
+            }
+        }
+    }
+    any_down
+}
+
+/// Forces and torque of the water on the stone in `pose` (eqs. 25–26). When `record` is true,
+/// the vertical load of every loaded face is stored in `scratch.loads` for the water coupling.
+pub fn evaluate(
+    stone: &Stone,
+    hp: &HydroParams,
+    pose: &Pose,
+    surface: &dyn Surface,
+    scratch: &mut Scratch,
+    record: bool,
+) -> ForceSum {
+    if record {
+        scratch.loads.clear();
+    }
+    let mut sum = ForceSum::default();
+    if pose.position.z - stone.bounding_radius > surface.max_height() {
+        return sum;
+    }
+    let rot = glam::DMat3::from_quat(pose.orientation);
+    scratch.world.clear();
+    scratch.height.clear();
+    let mut any_wet = false;
+    for &p in &stone.mesh.positions {
+        let w = pose.position + rot * p;
+        let d = w.z - surface.height(w.x, w.y);
+        any_wet |= d <= 0.0;
+        scratch.world.push(w);
+        scratch.height.push(d);
+    }
+    if !any_wet {
+        return sum;
+    }
+    sum.in_contact = true;
+    let speed = pose.velocity.length();
+    for (t, tri) in stone.mesh.triangles.iter().enumerate() {
+        let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let d = [scratch.height[a], scratch.height[b], scratch.height[c]];
+        if d[0] > 0.0 && d[1] > 0.0 && d[2] > 0.0 {
+            continue;
+        }
+        let p = [scratch.world[a], scratch.world[b], scratch.world[c]];
+        let Some(patch) = clip_triangle(p, d) else {
+            continue;
+        };
+        if patch.area <= 0.0 {
+            continue;
+        }
+        let normal = rot * stone.normals[t];
+        let r = patch.centroid - pose.position;
+        let v = pose.velocity + pose.angular_velocity.cross(r);
+        let f = face_force(hp, normal, patch.area, v, speed);
+        if f == DVec3::ZERO {
+            continue;
+        }
+        sum.wetted_area += patch.area;
+        sum.force += f;
+        sum.torque += r.cross(f);
+        if record {
+            scratch.loads.push((patch.centroid.x, patch.centroid.y, f.z));
+        }
+    }
+    sum
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hp(law: ForceLaw, ventilated: bool) -> HydroParams {
+        let (lift, friction) = law.default_coefficients();
+        HydroParams {
+            law,
+            lift,
+            friction,
+            density: 1000.0,
+            ventilated,
+        }
+    }
+
+    #[test]
+    fn flat_face_rosellini_is_half_rho_u2_sin() {
+        // Bottom face of a plate tilted by α, moving at U with angle β below the horizontal:
+        // pressure = ½ρU²S sin(α+β) at C_L = ½.
+        let (alpha, beta, u, s) = (0.3_f64, 0.2_f64, 3.0, 0.01);
+        let normal = DVec3::new(alpha.sin(), 0.0, -alpha.cos());
+        let v = DVec3::new(u * beta.cos(), 0.0, -u * beta.sin());
+        let h = HydroParams {
+            friction: 0.0,
+            ..hp(ForceLaw::Rosellini, true)
+        };
+        let f = face_force(&h, normal, s, v, u);
+        let expect = 0.5 * 1000.0 * u * u * s * (alpha + beta).sin();
+        assert!((f.length() - expect).abs() < 1e-12 * expect);
+        assert!(f.dot(normal) < 0.0);
+    }
+
+    #[test]
+    fn receding_face_gets_nothing_when_ventilated() {
+        let normal = DVec3::new(0.0, 0.0, 1.0);
+        let v = DVec3::new(3.0, 0.0, -1.0);
+        for law in ForceLaw::ALL {
+            assert_eq!(face_force(&hp(law, true), normal, 0.01, v, v.length()), DVec3::ZERO);
+            // Not ventilated: the paper as printed pushes on every wetted face.
+            if law != ForceLaw::Rosellini {
+                assert!(face_force(&hp(law, false), normal, 0.01, v, v.length()).z < 0.0);
+            }
+        }
+    }
+
+    #[test]
+    fn zero_tangential_speed_gives_finite_force() {
+        let normal = DVec3::new(0.0, 0.0, -1.0);
+        let v = DVec3::new(0.0, 0.0, -2.0);
+        for law in ForceLaw::ALL {
+            let f = face_force(&hp(law, true), normal, 0.01, v, 2.0);
+            assert!(f.is_finite());
+            assert!(f.z > 0.0);
+            assert_eq!(f.x, 0.0);
+        }
+    }
+
+    #[test]
+    fn paper_law_matches_eqs_17_18() {
+        let normal = DVec3::new(0.0, 0.0, -1.0);
+        let v = DVec3::new(4.0, 0.0, -1.0);
+        let h = hp(ForceLaw::Paper, true);
+        let f = face_force(&h, normal, 0.02, v, v.length());
+        let fn_ = 0.5 * 1.4 * 1000.0 * 1.0 * 0.02;
+        let ft = 0.5 * 0.005 * 1000.0 * 16.0 * 0.02;
+        assert!((f - DVec3::new(-ft, 0.0, fn_)).length() < 1e-12);
+    }
+}

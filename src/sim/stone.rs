@@ -1,0 +1,462 @@
+//! The stone: a closed triangle mesh of revolution (paper §3.1, Fig. 3) or a thin box, its mass
+//! properties from the mesh (signed-tetrahedron integrals), and its attitude (design.md §3–4).
+//!
+//! Body frame: centre of mass at the origin, symmetry axis = body z, a plate's length along body x.
+//! Triangles wind counter-clockwise seen from outside, so `(b − a) × (c − a)` points outward.
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::params::{Attitude, ParamError, Shape, StoneParams};
+
+/// A closed triangle mesh in the stone's body frame (centre of mass at the origin).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// Outward unit normal and area of triangle `i` (body frame).
+    pub fn normal_area(&self, i: usize) -> (DVec3, f64) {
+        let [a, b, c] = self.corners(i);
+        let n = (b - a).cross(c - a);
+        let len = n.length();
+        if len > 0.0 {
+            (n / len, 0.5 * len)
+        } else {
+            (DVec3::Z, 0.0)
+        }
+    }
+
+    pub fn corners(&self, i: usize) -> [DVec3; 3] {
+        let [a, b, c] = self.triangles[i];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+
+    /// Total surface area.
+    pub fn surface_area(&self) -> f64 {
+        (0..self.triangles.len())
+            .map(|i| self.normal_area(i).1)
+            .sum()
+    }
+}
+
+/// Volume, centroid and inertia of a closed mesh of uniform density.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MassProperties {
+    pub volume: f64,
+    pub centroid: DVec3,
+    /// Inertia tensor about the centroid, for the given mass (kg m²).
+    pub inertia: DMat3,
+}
+
+/// Mass properties by summing signed tetrahedra (origin, a, b, c) over the triangles: the second
+/// moment of a tetrahedron is det/120 · (a aᵀ + b bᵀ + c cᵀ + s sᵀ), s = a + b + c.
+pub fn mass_properties(mesh: &Mesh, mass: f64) -> MassProperties {
+    let mut vol6 = 0.0;
+    let mut first = DVec3::ZERO;
+    let mut second = DMat3::ZERO;
+    for t in 0..mesh.triangles.len() {
+        let [a, b, c] = mesh.corners(t);
+        let det = a.dot(b.cross(c));
+        let s = a + b + c;
+        vol6 += det;
+        first += det * s;
+        let outer = |u: DVec3| DMat3::from_cols(u * u.x, u * u.y, u * u.z);
+        second += (outer(a) + outer(b) + outer(c) + outer(s)) * (det / 120.0);
+    }
+    let volume = vol6 / 6.0;
+    if volume.abs() < f64::MIN_POSITIVE {
+        return MassProperties {
+            volume: 0.0,
+            centroid: DVec3::ZERO,
+            inertia: DMat3::IDENTITY * mass,
+        };
+    }
+    let centroid = first / (4.0 * vol6);
+    let density = mass / volume;
+    // Second moment about the origin, then about the centroid (parallel axis).
+    let c_o = second * density;
+    let c_cm = c_o
+        - DMat3::from_cols(
+            centroid * centroid.x,
+            centroid * centroid.y,
+            centroid * centroid.z,
+        ) * mass;
+    let trace = c_cm.x_axis.x + c_cm.y_axis.y + c_cm.z_axis.z;
+    let inertia = DMat3::IDENTITY * trace - c_cm;
+    MassProperties {
+        volume,
+        centroid,
+        inertia,
+    }
+}
+
+/// Builds the mesh of a shape, not yet centred.
+pub fn build_mesh(shape: &Shape, segments: u32) -> Mesh {
+    let n = segments.max(3) as usize;
+    match *shape {
+        Shape::Disk { radius, thickness } => disk_mesh(radius, thickness, n),
+        Shape::Lens { radius, thickness } => lens_mesh(radius, thickness, n),
+        Shape::Plate {
+            length,
+            width,
+            thickness,
+        } => plate_mesh(length, width, thickness),
+    }
+}
+
+fn ring_point(radius: f64, angle: f64, z: f64) -> DVec3 {
+    DVec3::new(radius * angle.cos(), radius * angle.sin(), z)
+}
+
+fn disk_mesh(radius: f64, thickness: f64, n: usize) -> Mesh {
+    let h = 0.5 * thickness;
+    let mut positions = Vec::with_capacity(2 * n + 2);
+    positions.push(DVec3::new(0.0, 0.0, h)); // 0: top centre
+    positions.push(DVec3::new(0.0, 0.0, -h)); // 1: bottom centre
+    for i in 0..n {
+        let a = std::f64::consts::TAU * i as f64 / n as f64;
+        positions.push(ring_point(radius, a, h)); // 2 + 2i: top rim
+        positions.push(ring_point(radius, a, -h)); // 3 + 2i: bottom rim
+    }
+    let top = |i: usize| (2 + 2 * (i % n)) as u32;
+    let bot = |i: usize| (3 + 2 * (i % n)) as u32;
+    let mut triangles = Vec::with_capacity(4 * n);
+    for i in 0..n {
+        triangles.push([0, top(i), top(i + 1)]);
+        triangles.push([1, bot(i + 1), bot(i)]);
+        triangles.push([bot(i), bot(i + 1), top(i + 1)]);
+        triangles.push([bot(i), top(i + 1), top(i)]);
+    }
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
+/// Ellipsoid of revolution: `n` around, `n/2` latitude bands (at least 4).
+fn lens_mesh(radius: f64, thickness: f64, n: usize) -> Mesh {
+    let h = 0.5 * thickness;
+    let bands = (n / 2).max(4);
+    let mut positions = Vec::with_capacity(2 + n * (bands - 1));
+    positions.push(DVec3::new(0.0, 0.0, h)); // north pole
+    for k in 1..bands {
+        let phi = std::f64::consts::PI * k as f64 / bands as f64;
+        let (s, c) = phi.sin_cos();
+        for i in 0..n {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            positions.push(ring_point(radius * s, a, h * c));
+        }
+    }
+    positions.push(DVec3::new(0.0, 0.0, -h)); // south pole
+    let south = (positions.len() - 1) as u32;
+    let ring = |k: usize, i: usize| (1 + (k - 1) * n + (i % n)) as u32;
+    let mut triangles = Vec::with_capacity(2 * n * bands);
+    for i in 0..n {
+        triangles.push([0, ring(1, i), ring(1, i + 1)]);
+    }
+    for k in 1..bands - 1 {
+        for i in 0..n {
+            let (a, b) = (ring(k, i), ring(k, i + 1));
+            let (c, d) = (ring(k + 1, i), ring(k + 1, i + 1));
+            triangles.push([a, c, d]);
+            triangles.push([a, d, b]);
+        }
+    }
+    for i in 0..n {
+        triangles.push([south, ring(bands - 1, i + 1), ring(bands - 1, i)]);
+    }
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
+fn plate_mesh(length: f64, width: f64, thickness: f64) -> Mesh {
+    let (x, y, z) = (0.5 * length, 0.5 * width, 0.5 * thickness);
+    let positions = vec![
+        DVec3::new(-x, -y, -z),
+        DVec3::new(x, -y, -z),
+        DVec3::new(x, y, -z),
+        DVec3::new(-x, y, -z),
+        DVec3::new(-x, -y, z),
+        DVec3::new(x, -y, z),
+        DVec3::new(x, y, z),
+        DVec3::new(-x, y, z),
+    ];
+    let triangles = vec![
+        [0, 2, 1],
+        [0, 3, 2], // bottom (−z)
+        [4, 5, 6],
+        [4, 6, 7], // top (+z)
+        [0, 1, 5],
+        [0, 5, 4], // −y
+        [2, 3, 7],
+        [2, 7, 6], // +y
+        [1, 2, 6],
+        [1, 6, 5], // +x
+        [3, 0, 4],
+        [3, 4, 7], // −x
+    ];
+    Mesh {
+        positions,
+        triangles,
+    }
+}
+
+/// The rigid stone: mesh about its centre of mass, mass and inertia.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stone {
+    pub shape: Shape,
+    pub mass: f64,
+    pub mesh: Mesh,
+    /// Body-frame inertia about the centre of mass (kg m²).
+    pub inertia: DMat3,
+    pub inv_inertia: DMat3,
+    pub volume: f64,
+    /// Radius of the sphere about the centre of mass that holds every vertex.
+    pub bounding_radius: f64,
+    /// Body-frame outward unit normals and areas of the triangles.
+    pub normals: Vec<DVec3>,
+    pub areas: Vec<f64>,
+}
+
+impl Stone {
+    pub fn new(params: &StoneParams) -> Result<Self, ParamError> {
+        params.validate()?;
+        let mut mesh = build_mesh(&params.shape, params.segments);
+        let props = mass_properties(&mesh, params.mass);
+        if props.volume <= 0.0 {
+            return Err(ParamError::new(
+                "stone.shape",
+                "expected a shape with positive volume",
+            ));
+        }
+        for p in &mut mesh.positions {
+            *p -= props.centroid;
+        }
+        let inv_inertia = props.inertia.inverse();
+        if !inv_inertia.is_finite() {
+            return Err(ParamError::new(
+                "stone.shape",
+                "expected a shape with a finite, invertible inertia tensor",
+            ));
+        }
+        let bounding_radius = mesh
+            .positions
+            .iter()
+            .map(|p| p.length())
+            .fold(0.0, f64::max);
+        let (normals, areas) = (0..mesh.triangles.len())
+            .map(|i| mesh.normal_area(i))
+            .unzip();
+        Ok(Self {
+            shape: params.shape,
+            mass: params.mass,
+            inertia: props.inertia,
+            inv_inertia,
+            volume: props.volume,
+            bounding_radius,
+            mesh,
+            normals,
+            areas,
+        })
+    }
+
+    /// Principal moments (I_xx, I_yy, I_zz) in the body frame (the meshes are built on their
+    /// principal axes).
+    pub fn principal_moments(&self) -> DVec3 {
+        DVec3::new(
+            self.inertia.x_axis.x,
+            self.inertia.y_axis.y,
+            self.inertia.z_axis.z,
+        )
+    }
+
+    /// True when the body is axisymmetric about body z (I_xx = I_yy): torque-free motion is then a
+    /// regular precession with a closed form.
+    pub fn is_axisymmetric(&self) -> bool {
+        let m = self.principal_moments();
+        (m.x - m.y).abs() <= 1e-9 * m.x.abs().max(m.y.abs())
+    }
+}
+
+/// Orientation (stone → world) from the preset's angles: Rz(heading) · Rx(bank) · Ry(−tilt).
+pub fn orientation_from_attitude(att: &Attitude) -> DQuat {
+    DQuat::from_rotation_z(att.heading_deg.to_radians())
+        * DQuat::from_rotation_x(att.bank_deg.to_radians())
+        * DQuat::from_rotation_y(-att.tilt_deg.to_radians())
+}
+
+/// Attitude of the stone's axis relative to the direction of travel, in degrees
+/// [tilt, bank, heading] (design.md §3): with d the unit horizontal velocity and s = ẑ × d,
+/// tilt = asin(−a·d), bank = atan2(−a·s, a·ẑ), heading = atan2(d_y, d_x).
+pub fn reported_attitude(world_from_stone: DQuat, velocity: DVec3) -> [f64; 3] {
+    let a = world_from_stone * DVec3::Z;
+    let horizontal = DVec3::new(velocity.x, velocity.y, 0.0);
+    let d = if horizontal.length_squared() > 1e-24 {
+        horizontal.normalize()
+    } else {
+        // At rest horizontally: use the stone's own +x direction, projected.
+        let bx = world_from_stone * DVec3::X;
+        let h = DVec3::new(bx.x, bx.y, 0.0);
+        if h.length_squared() > 1e-24 {
+            h.normalize()
+        } else {
+            DVec3::X
+        }
+    };
+    let s = DVec3::Z.cross(d);
+    let tilt = (-a.dot(d)).clamp(-1.0, 1.0).asin();
+    let bank = (-a.dot(s)).atan2(a.z);
+    let heading = d.y.atan2(d.x);
+    [tilt.to_degrees(), bank.to_degrees(), heading.to_degrees()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn closed_and_outward(mesh: &Mesh) {
+        // Closed: every directed edge appears once and its reverse once.
+        let mut edges = std::collections::HashMap::new();
+        for t in &mesh.triangles {
+            for k in 0..3 {
+                *edges.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        for (&(a, b), &count) in &edges {
+            assert_eq!(count, 1, "edge {a}->{b} repeated");
+            assert_eq!(edges.get(&(b, a)), Some(&1), "edge {a}->{b} unmatched");
+        }
+        // Outward: positive volume; each normal points away from the centroid for convex shapes.
+        for i in 0..mesh.triangles.len() {
+            let (n, area) = mesh.normal_area(i);
+            let [a, b, c] = mesh.corners(i);
+            let centre = (a + b + c) / 3.0;
+            assert!(area > 0.0);
+            assert!(n.dot(centre) > 0.0, "triangle {i} points inward");
+        }
+    }
+
+    #[test]
+    fn meshes_are_closed_with_outward_normals() {
+        for shape in [
+            Shape::Disk {
+                radius: 0.05,
+                thickness: 0.01,
+            },
+            Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            Shape::Plate {
+                length: 0.1,
+                width: 0.08,
+                thickness: 0.002,
+            },
+        ] {
+            closed_and_outward(&build_mesh(&shape, 24));
+        }
+    }
+
+    #[test]
+    fn disk_mass_properties_match_cylinder_formulas_to_polygon_accuracy() {
+        let (r, t, m) = (0.05, 0.01, 0.1);
+        let n = 256;
+        let mesh = build_mesh(
+            &Shape::Disk {
+                radius: r,
+                thickness: t,
+            },
+            n,
+        );
+        let p = mass_properties(&mesh, m);
+        // Inscribed polygon: area (n/2) r² sin(2π/n).
+        let poly_area = 0.5 * n as f64 * r * r * (std::f64::consts::TAU / n as f64).sin();
+        assert!((p.volume - poly_area * t).abs() < 1e-15);
+        assert!(p.centroid.length() < 1e-15);
+        // Polygon's polar moment differs from the circle's by O((2π/n)²).
+        let rel = (2.0 * std::f64::consts::PI / n as f64).powi(2);
+        let i3 = 0.5 * m * r * r;
+        let i1 = 0.25 * m * r * r + m * t * t / 12.0;
+        assert!((p.inertia.z_axis.z - i3).abs() / i3 < rel);
+        assert!((p.inertia.x_axis.x - i1).abs() / i1 < rel);
+        assert!(p.inertia.x_axis.y.abs() < 1e-12 * i1);
+    }
+
+    #[test]
+    fn plate_inertia_is_exact() {
+        let (a, b, c, m) = (0.1, 0.06, 0.004, 0.2);
+        let p = mass_properties(
+            &build_mesh(
+                &Shape::Plate {
+                    length: a,
+                    width: b,
+                    thickness: c,
+                },
+                8,
+            ),
+            m,
+        );
+        assert!((p.volume - a * b * c).abs() < 1e-18);
+        let expect = DVec3::new(b * b + c * c, a * a + c * c, a * a + b * b) * (m / 12.0);
+        let got = DVec3::new(p.inertia.x_axis.x, p.inertia.y_axis.y, p.inertia.z_axis.z);
+        assert!((got - expect).length() < 1e-15, "{got} vs {expect}");
+    }
+
+    #[test]
+    fn lens_volume_converges_to_ellipsoid() {
+        let (r, t) = (0.05, 0.012);
+        let exact = 4.0 / 3.0 * std::f64::consts::PI * r * r * 0.5 * t;
+        let mut last_err = f64::INFINITY;
+        for n in [16, 32, 64, 128] {
+            let p = mass_properties(
+                &build_mesh(
+                    &Shape::Lens {
+                        radius: r,
+                        thickness: t,
+                    },
+                    n,
+                ),
+                0.1,
+            );
+            let err = (p.volume - exact).abs() / exact;
+            assert!(err < last_err / 3.0, "second-order convergence: {err} after {last_err}");
+            last_err = err;
+        }
+        assert!(last_err < 1e-3);
+    }
+
+    #[test]
+    fn reported_attitude_equals_preset_when_velocity_along_heading() {
+        let att = Attitude {
+            tilt_deg: 17.0,
+            bank_deg: -8.0,
+            heading_deg: 30.0,
+        };
+        let q = orientation_from_attitude(&att);
+        let h = att.heading_deg.to_radians();
+        let v = DVec3::new(5.0 * h.cos(), 5.0 * h.sin(), -1.0);
+        let r = reported_attitude(q, v);
+        assert!((r[0] - 17.0).abs() < 1e-9, "{r:?}");
+        assert!((r[1] + 8.0).abs() < 1e-9, "{r:?}");
+        assert!((r[2] - 30.0).abs() < 1e-9, "{r:?}");
+    }
+
+    #[test]
+    fn tilt_raises_the_leading_edge() {
+        let q = orientation_from_attitude(&Attitude {
+            tilt_deg: 20.0,
+            bank_deg: 0.0,
+            heading_deg: 0.0,
+        });
+        let front = q * DVec3::new(0.05, 0.0, 0.0);
+        assert!(front.z > 0.0);
+    }
+}
