@@ -1149,14 +1149,16 @@ mod tests {
         for &s in &[1e-6, 1e-3, 0.005, 0.0125, 0.025, 0.04, 0.0499] {
             let u = 1.0 - s / r;
             let direct = r * r * (u.acos() - u * (1.0 - u * u).sqrt());
-            assert!(close(shape.wetted_area(s), direct, 1e-9), "s = {s}");
+            // The direct form itself loses digits as s → 0 (cancellation).
+            let tol = if s < 1e-4 { 1e-6 } else { 1e-9 };
+            assert!(close(shape.wetted_area(s), direct, tol), "s = {s}");
         }
         assert_eq!(shape.wetted_area(0.0), 0.0);
         assert_eq!(shape.wetted_area(-1.0), 0.0);
         assert!(close(shape.wetted_area(0.05), PI * r * r, 1e-15));
         assert!(close(shape.wetted_area(1.0), PI * r * r, 1e-15));
         // Small-s asymptote (4√2/3) R^½ s^{3/2}.
-        let s = 1e-9;
+        let s: f64 = 1e-9;
         let asym = 4.0 * 2f64.sqrt() / 3.0 * r.sqrt() * s.powf(1.5);
         assert!(close(shape.wetted_area(s), asym, 1e-7));
         // Half disc.

@@ -1,0 +1,1221 @@
+//! Column-and-pipe water surface: the volume model of O'Brien & Hodgins, "Dynamic Simulation of
+//! Splashing Fluids" (Computer Animation '95), as used by the paper (§3.3, eqs. 39–41), with the fixes the
+//! literature found (design.md §5, `shared/reference/water.md`):
+//!
+//! * **Columns and pipes.** A square grid of `nx × ny` columns of cell size l and rest depth H. Each pipe
+//!   carries one **signed** flow Q (m³/s), stored once by the column that owns it, so Q_{ij→kl} =
+//!   −Q_{kl→ij} holds by construction (eq. 39). Four axis pipes, optionally the four diagonals; with
+//!   diagonals the pipe areas are the isotropic A_axis = ⅔Hl, A_diag = (√2/6)Hl (equal areas would make
+//!   waves 1.55× too fast); with axis pipes only A = Hl. Linearised, the grid is the shallow-water wave
+//!   equation with c² = gH.
+//! * **Flow law** (O'Brien eqs. 1.2–1.5 of water.md): Q ← e^{−γΔt}·Q + Δt·(gA/L)·(h_i − h_j) +
+//!   Δt·(A/(ρL))·(E_i − E_j), with h = bed + depth the surface and E the external pressure of the stone
+//!   (Newton's third law): E enters as a pressure head E/(ρg) on the surface. γ is the damping per second.
+//! * **Symplectic update.** Flows first, then depths from the *new* flows: ΔV_i = Δt·Σ(inflow). The
+//!   literal "average of old and new flows" update is unstable at every step (water.md §1).
+//! * **Non-negative volume** (eq. 40). [`Limiter::MassConserving`]: Mei, Decaudin & Hu 2007 (eqs. 4–5),
+//!   applied per *source* column to signed flows: each pipe's flow is scaled by K of its upwind column,
+//!   K = min(1, V/(Δt·Σ outflow)). Volume is conserved to rounding and V ≥ 0 for any Δt.
+//!   [`Limiter::PaperClamp`]: the paper's eq. 41 — a column whose new volume would be negative gets 0
+//!   (creates water); kept as the studied alternative.
+//! * **Walls.** Closed: no flow through a boundary face. With diagonal pipes, the diagonal pipes a mirror
+//!   image across the wall would have add to the pipe along the wall, so a wall is an exact mirror (the
+//!   Neumann boundary of the isotropic 9-point stencil): the method of images holds for both stencils.
+//! * **Stability.** The grid runs on its own fixed clock Δt_w, chosen at construction at
+//!   [`COURANT_SAFETY`] of the Courant limit r = cΔt/l ≤ 1/√2 (4 pipes) or √3/2 (8 pipes), capped at
+//!   [`MAX_STEP`]; no accepted parameter can make it unstable (the flow law is linear in h; K and the
+//!   damping only remove energy).
+//!
+//! **Parallel and deterministic.** One step is a single fused sweep over rows (flows → K → final flows →
+//! depths, with a two-row lag held in row buffers) from an old state into a new one (Jacobi,
+//! double-buffered). Rows are cut into chunks run by rayon; each chunk recomputes the two rows of flows
+//! before it, so the result does not depend on the chunking or on the number of threads, bit for bit.
+//! Every sum is formed in a fixed, symmetric order (pairs of opposite pipes), so a symmetric state stays
+//! symmetric bit for bit.
+//!
+//! **Memory traffic.** f64 storage, per column and step: read depth + 2 or 4 pipe flows, write the same:
+//! 48 B (4 pipes) or 80 B (8 pipes), plus as much again for write-allocation where the new state is not
+//! in cache ([`WaterGrid::bytes_per_column_step`]).
+//!
+//! Units are SI throughout: metres, seconds, m³/s, pascals, newton-seconds.
+
+use rayon::prelude::*;
+
+use crate::sim::params::{Limiter, ParamError, Swell, WaterParams, MAX_WATER_COLUMNS};
+
+/// Fraction of the Courant limit at which the automatic water step runs: r = 0.7/√2 ≈ 0.495 with axis
+/// pipes, r = 0.7·√3/2 ≈ 0.606 with diagonals. Below the limit by 30 %, and near the top, where the
+/// leapfrog-like scheme is most accurate (its phase error shrinks as r grows towards the limit).
+pub const COURANT_SAFETY: f64 = 0.7;
+/// Longest automatic water step (s): one 60 Hz frame.
+pub const MAX_STEP: f64 = 1.0 / 60.0;
+/// Courant limit cΔt/l of the 4-pipe scheme, 1/√2.
+pub const COURANT_LIMIT_4: f64 = std::f64::consts::FRAC_1_SQRT_2;
+/// Courant limit cΔt/l of the isotropic 8-pipe scheme, √3/2.
+pub const COURANT_LIMIT_8: f64 = 0.866_025_403_784_438_6;
+
+/// Columns below which a step runs on the calling thread (rayon's overhead would dominate).
+const PARALLEL_MIN_COLUMNS: usize = 16_384;
+/// Fewest rows in an automatic chunk (each chunk recomputes two rows of flows before it).
+const MIN_CHUNK_ROWS: usize = 16;
+
+/// Everything that defines a grid, in raw numbers: what [`WaterGrid::new`] derives from a preset, and what
+/// tests and studies set directly (any grid shape, an explicit step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WaterConfig {
+    /// Columns along x and y (at least 1 each).
+    pub nx: usize,
+    pub ny: usize,
+    /// Cell size l (m).
+    pub cell: f64,
+    /// Rest depth H (m); sets the pipe areas and the wave speed √(gH).
+    pub depth: f64,
+    /// m/s² (0 allowed: no restoring force, no waves).
+    pub gravity: f64,
+    /// kg/m³
+    pub density: f64,
+    /// Flow damping γ (1/s): Q ← e^{−γΔt} Q each step.
+    pub damping: f64,
+    pub diagonal_pipes: bool,
+    pub limiter: Limiter,
+    /// World position of the grid's −x, −y corner (m).
+    pub origin: [f64; 2],
+    /// `None`: the automatic step under the Courant limit. `Some(dt)`: exactly this step, with **no**
+    /// stability check (for stability studies; see [`WaterGrid::courant`]).
+    pub dt: Option<f64>,
+}
+
+impl WaterConfig {
+    /// A grid of `nx × ny` unit cells, H = 1, g = 9.81, ρ = 1000, no damping, 4 pipes, K limiter,
+    /// origin (0, 0), automatic step: the setting of water.md §5's tests.
+    pub fn unit(nx: usize, ny: usize) -> Self {
+        Self {
+            nx,
+            ny,
+            cell: 1.0,
+            depth: 1.0,
+            gravity: 9.81,
+            density: 1000.0,
+            damping: 0.0,
+            diagonal_pipes: false,
+            limiter: Limiter::MassConserving,
+            origin: [0.0, 0.0],
+            dt: None,
+        }
+    }
+
+    /// This configuration with the step set from a Courant number r = cΔt/l.
+    pub fn with_courant(mut self, r: f64) -> Self {
+        let c = (self.gravity * self.depth).sqrt();
+        self.dt = Some(r * self.cell / c);
+        self
+    }
+
+    fn validate(&self) -> Result<(), ParamError> {
+        if self.nx == 0 || self.ny == 0 {
+            return Err(ParamError::new(
+                "water.cell",
+                format!(
+                    "expected at least one column each way, found {} × {}",
+                    self.nx, self.ny
+                ),
+            ));
+        }
+        if self.nx.saturating_mul(self.ny) > MAX_WATER_COLUMNS {
+            return Err(ParamError::new(
+                "water.cell",
+                format!(
+                    "expected at most {MAX_WATER_COLUMNS} columns, found {} × {}",
+                    self.nx, self.ny
+                ),
+            ));
+        }
+        positive("water.cell", self.cell)?;
+        positive("water.depth", self.depth)?;
+        positive("physics.water_density", self.density)?;
+        if !(self.gravity.is_finite() && self.gravity >= 0.0) {
+            return Err(ParamError::new(
+                "physics.gravity",
+                format!("expected a finite number ≥ 0 m/s², found {}", self.gravity),
+            ));
+        }
+        if !(self.damping.is_finite() && self.damping >= 0.0) {
+            return Err(ParamError::new(
+                "water.damping",
+                format!("expected a finite number ≥ 0 1/s, found {}", self.damping),
+            ));
+        }
+        if !(self.origin[0].is_finite() && self.origin[1].is_finite()) {
+            return Err(ParamError::new(
+                "water.origin",
+                format!("expected finite coordinates, found {:?}", self.origin),
+            ));
+        }
+        if let Some(dt) = self.dt {
+            positive("water.dt", dt)?;
+        }
+        Ok(())
+    }
+}
+
+fn positive(field: &str, v: f64) -> Result<(), ParamError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(ParamError::new(
+            field,
+            format!("expected a finite positive number, found {v}"),
+        ))
+    }
+}
+
+/// Per-step coefficients of the kernel.
+#[derive(Debug, Clone, Copy)]
+struct Coeffs {
+    nx: usize,
+    ny: usize,
+    /// Fields per row block: depth + pipes (3 or 5).
+    nf: usize,
+    clamp: bool,
+    /// e^{−γΔt}
+    damp: f64,
+    /// Δt·g·A/L of an axis and a diagonal pipe.
+    gx: f64,
+    gd: f64,
+    /// Δt·A/(ρL) of an axis and a diagonal pipe (pressure).
+    px: f64,
+    pd: f64,
+    /// Δt / l²: flow (m³/s) to depth change per step.
+    beta: f64,
+}
+
+impl Coeffs {
+    fn stride(&self) -> usize {
+        self.nf * self.nx
+    }
+    /// Coefficient of the x pipes of row j: a wall row also takes the mirrored diagonals.
+    fn row_edge(&self, a: f64, ad: f64, j: usize) -> f64 {
+        let walls = usize::from(j == 0) + usize::from(j + 1 == self.ny);
+        match walls {
+            0 => a,
+            1 => a + ad,
+            _ => a + 2.0 * ad,
+        }
+    }
+    /// Coefficient of the y pipes of the first and last column.
+    fn col_edge(&self, a: f64, ad: f64) -> f64 {
+        if self.nx == 1 {
+            a + 2.0 * ad
+        } else {
+            a + ad
+        }
+    }
+}
+
+/// Row buffers of one chunk: flows before and after the limiter, and K, for two rows each, every row
+/// padded by one zero on each side so that the neighbour at ix − 1 or ix + 1 never needs a branch.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    w: usize,
+    np: usize,
+    /// [slot 0..2][pipe 0..np][w]
+    qn: Vec<f64>,
+    qf: Vec<f64>,
+    /// [slot 0..2][w]
+    k: Vec<f64>,
+    /// surfaces of the two rows of a general row pair (bed / pressure present)
+    h0: Vec<f64>,
+    h1: Vec<f64>,
+}
+
+impl Scratch {
+    fn ensure(&mut self, nx: usize, np: usize) {
+        let w = nx + 2;
+        if self.w != w || self.np != np {
+            self.w = w;
+            self.np = np;
+            self.qn = vec![0.0; 2 * np * w];
+            self.qf = vec![0.0; 2 * np * w];
+            self.k = vec![1.0; 2 * w];
+            self.h0 = vec![0.0; nx];
+            self.h1 = vec![0.0; nx];
+        }
+    }
+}
+
+/// The water surface: columns joined by pipes (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct WaterGrid {
+    cfg: WaterConfig,
+    dt: f64,
+    co: Coeffs,
+    /// Row blocks: [depth | qx | qy | (qd | qa)], each `nx` long. qx: (ix,iy)→(ix+1,iy);
+    /// qy: (ix,iy)→(ix,iy+1); qd: (ix,iy)→(ix+1,iy+1); qa: (ix,iy)→(ix−1,iy+1).
+    cur: Vec<f64>,
+    nxt: Vec<f64>,
+    /// Bed elevation + H per column (0 on the flat bed z = −H); empty while the bed is flat.
+    bed: Vec<f64>,
+    row_bed: Vec<bool>,
+    /// Impulses (N·s, down) deposited since the last step; empty until the first deposit.
+    pending: Vec<f64>,
+    touched: Vec<usize>,
+    /// External pressure (Pa) during the current step; empty until the first deposit.
+    press: Vec<f64>,
+    /// Rows holding external pressure during the current step.
+    row_press: Vec<bool>,
+    zeros: Vec<f64>,
+    scratch: Vec<Scratch>,
+    chunk_rows: Option<usize>,
+    steps: u64,
+    clock: f64,
+}
+
+impl WaterGrid {
+    /// A grid for a preset's water: `origin` is the −x, −y corner (the caller resolves the default via
+    /// [`WaterParams::origin_for`]), `gravity` and `density` come from the physics.
+    pub fn new(
+        params: &WaterParams,
+        origin: [f64; 2],
+        gravity: f64,
+        density: f64,
+    ) -> Result<Self, ParamError> {
+        params.validate()?;
+        let nx = (params.size[0] / params.cell).ceil();
+        let ny = (params.size[1] / params.cell).ceil();
+        if !(nx >= 1.0 && ny >= 1.0 && nx * ny <= MAX_WATER_COLUMNS as f64) {
+            return Err(ParamError::new(
+                "water.cell",
+                format!("expected 1 to {MAX_WATER_COLUMNS} columns, found {nx} × {ny}"),
+            ));
+        }
+        let cfg = WaterConfig {
+            nx: nx as usize,
+            ny: ny as usize,
+            cell: params.cell,
+            depth: params.depth,
+            gravity,
+            density,
+            damping: params.damping,
+            diagonal_pipes: params.diagonal_pipes,
+            limiter: params.limiter,
+            origin,
+            dt: None,
+        };
+        let mut grid = Self::with_config(cfg)?;
+        if let Some(swell) = params.swell {
+            grid.set_swell(&swell);
+        }
+        Ok(grid)
+    }
+
+    /// A grid from raw numbers (tests, studies): water at rest at depth H on a flat bed.
+    pub fn with_config(cfg: WaterConfig) -> Result<Self, ParamError> {
+        cfg.validate()?;
+        let c = (cfg.gravity * cfg.depth).sqrt();
+        let limit = if cfg.diagonal_pipes {
+            COURANT_LIMIT_8
+        } else {
+            COURANT_LIMIT_4
+        };
+        let dt = match cfg.dt {
+            Some(dt) => dt,
+            None if c > 0.0 => (COURANT_SAFETY * limit * cfg.cell / c).min(MAX_STEP),
+            None => MAX_STEP,
+        };
+        let (l, h, g, rho) = (cfg.cell, cfg.depth, cfg.gravity, cfg.density);
+        // Pipe areas and lengths (water.md §2–§3).
+        let (ax, ad) = if cfg.diagonal_pipes {
+            (2.0 / 3.0 * h * l, std::f64::consts::SQRT_2 / 6.0 * h * l)
+        } else {
+            (h * l, 0.0)
+        };
+        let (lx, ld) = (l, std::f64::consts::SQRT_2 * l);
+        let nf = if cfg.diagonal_pipes { 5 } else { 3 };
+        let co = Coeffs {
+            nx: cfg.nx,
+            ny: cfg.ny,
+            nf,
+            clamp: cfg.limiter == Limiter::PaperClamp,
+            damp: (-cfg.damping * dt).exp(),
+            gx: dt * g * ax / lx,
+            gd: dt * g * ad / ld,
+            px: dt * ax / (rho * lx),
+            pd: dt * ad / (rho * ld),
+            beta: dt / (l * l),
+        };
+        let n = cfg.nx * cfg.ny;
+        let mut cur = vec![0.0; n * nf];
+        for row in cur.chunks_exact_mut(co.stride()) {
+            row[..cfg.nx].fill(h);
+        }
+        let nxt = cur.clone();
+        Ok(Self {
+            cfg,
+            dt,
+            co,
+            cur,
+            nxt,
+            bed: Vec::new(),
+            row_bed: vec![false; cfg.ny],
+            pending: Vec::new(),
+            touched: Vec::new(),
+            press: Vec::new(),
+            row_press: vec![false; cfg.ny],
+            zeros: vec![0.0; cfg.nx],
+            scratch: Vec::new(),
+            chunk_rows: None,
+            steps: 0,
+            clock: 0.0,
+        })
+    }
+
+    // --- geometry and clock -------------------------------------------------------------------
+
+    pub fn nx(&self) -> usize {
+        self.cfg.nx
+    }
+    pub fn ny(&self) -> usize {
+        self.cfg.ny
+    }
+    /// Cell size l (m).
+    pub fn cell(&self) -> f64 {
+        self.cfg.cell
+    }
+    /// World position of the −x, −y corner (m).
+    pub fn origin(&self) -> [f64; 2] {
+        self.cfg.origin
+    }
+    /// Rest depth H (m).
+    pub fn rest_depth(&self) -> f64 {
+        self.cfg.depth
+    }
+    pub fn config(&self) -> &WaterConfig {
+        &self.cfg
+    }
+    /// The water's own fixed step Δt_w (s).
+    pub fn step_dt(&self) -> f64 {
+        self.dt
+    }
+    /// Simulated time the water has reached (s): steps taken × Δt_w.
+    pub fn time(&self) -> f64 {
+        self.steps as f64 * self.dt
+    }
+    /// Steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+    /// Wave speed c = √(gH) (m/s).
+    pub fn wave_speed(&self) -> f64 {
+        (self.cfg.gravity * self.cfg.depth).sqrt()
+    }
+    /// Courant number r = cΔt/l of the step in use.
+    pub fn courant(&self) -> f64 {
+        self.wave_speed() * self.dt / self.cfg.cell
+    }
+    /// Largest stable Courant number of the stencil: 1/√2 (4 pipes) or √3/2 (8 pipes).
+    pub fn courant_limit(&self) -> f64 {
+        if self.cfg.diagonal_pipes {
+            COURANT_LIMIT_8
+        } else {
+            COURANT_LIMIT_4
+        }
+    }
+    /// Compulsory memory traffic of one column update (B): the depth and every pipe flow read once and
+    /// written once, in f64. Add as much again for write-allocation when the new state is not cached.
+    pub fn bytes_per_column_step(&self) -> usize {
+        2 * self.co.nf * std::mem::size_of::<f64>()
+    }
+
+    /// Adds `dt` (s) to the water's clock and runs every whole water step now due (0, 1 or many).
+    /// Deterministic: the same calls give the same steps. A non-finite or negative `dt` is ignored.
+    pub fn advance(&mut self, dt: f64) {
+        if !(dt.is_finite() && dt > 0.0) {
+            return;
+        }
+        self.clock = self.clock.max(self.time()) + dt;
+        // A tolerance of 1e-9 steps absorbs the rounding of a clock advanced in step-sized increments.
+        let due = (self.clock / self.dt + 1e-9).floor();
+        while (self.steps as f64) < due {
+            self.step();
+        }
+    }
+
+    /// Runs exactly one water step. Uses the current rayon pool (`pool.install(|| grid.step())` picks
+    /// one); the result is bit-identical for any number of threads.
+    pub fn step(&mut self) {
+        self.apply_pending_pressure();
+        let chunks = self.chunk_bounds();
+        let co = self.co;
+        let stride = co.stride();
+        for s in self.scratch.iter_mut().take(chunks.len()) {
+            s.ensure(co.nx, co.nf - 1);
+        }
+        let input = Input {
+            old: &self.cur,
+            bed: (!self.bed.is_empty()).then_some(self.bed.as_slice()),
+            press: (!self.touched.is_empty() && !self.press.is_empty())
+                .then_some(self.press.as_slice()),
+            row_bed: &self.row_bed,
+            row_press: &self.row_press,
+            zeros: &self.zeros,
+        };
+        if chunks.len() <= 1 {
+            if let Some(s) = self.scratch.first_mut() {
+                run_chunk(&co, &input, 0, co.ny, &mut self.nxt, s);
+            }
+        } else {
+            let mut parts: Vec<(usize, usize, &mut [f64], &mut Scratch)> =
+                Vec::with_capacity(chunks.len());
+            let mut rest: &mut [f64] = &mut self.nxt;
+            for (&(r0, r1), s) in chunks.iter().zip(self.scratch.iter_mut()) {
+                let (head, tail) = rest.split_at_mut((r1 - r0) * stride);
+                parts.push((r0, r1, head, s));
+                rest = tail;
+            }
+            parts
+                .into_par_iter()
+                .for_each(|(r0, r1, out, s)| run_chunk(&co, &input, r0, r1, out, s));
+        }
+        std::mem::swap(&mut self.cur, &mut self.nxt);
+        self.clear_pressure();
+        self.steps += 1;
+    }
+
+    /// Rows per chunk for the parallel step: `None` (default) chooses from the grid size and the pool's
+    /// threads; `Some(n)` forces chunks of n ≥ 2 rows (determinism tests). Results never depend on it.
+    pub fn set_chunk_rows(&mut self, rows: Option<usize>) {
+        self.chunk_rows = rows.map(|r| r.max(2));
+    }
+
+    fn chunk_bounds(&mut self) -> Vec<(usize, usize)> {
+        let ny = self.co.ny;
+        let n = match self.chunk_rows {
+            Some(r) => ny.div_ceil(r).min(ny / 2).max(1),
+            None => {
+                let threads = rayon::current_num_threads();
+                if threads <= 1 || self.cfg.nx * ny < PARALLEL_MIN_COLUMNS {
+                    1
+                } else {
+                    (2 * threads).min(ny / MIN_CHUNK_ROWS).max(1)
+                }
+            }
+        };
+        if self.scratch.len() < n {
+            self.scratch.resize_with(n, Scratch::default);
+        }
+        // Even split: every chunk has at least 2 rows when n ≤ ny / 2.
+        (0..n).map(|c| (c * ny / n, (c + 1) * ny / n)).collect()
+    }
+
+    // --- coupling -----------------------------------------------------------------------------
+
+    /// Impulse (N·s) pushing the water DOWN at world (x, y), spread bilinearly onto the 4 nearest
+    /// columns (the total is kept exactly); ignored outside the grid or if not finite. At the next water
+    /// step the impulses gathered since the last one act as a constant pressure E = J/(Δt_w·l²).
+    pub fn deposit_impulse(&mut self, x: f64, y: f64, impulse: f64) {
+        if !impulse.is_finite() || !self.contains(x, y) {
+            return;
+        }
+        let [(i0, i1, tx), (j0, j1, ty)] = self.bilinear(x, y);
+        let a = impulse * (1.0 - ty);
+        let b = impulse - a;
+        let a1 = a * tx;
+        let b1 = b * tx;
+        self.deposit_impulse_cell(i0, j0, a - a1);
+        self.deposit_impulse_cell(i1, j0, a1);
+        self.deposit_impulse_cell(i0, j1, b - b1);
+        self.deposit_impulse_cell(i1, j1, b1);
+    }
+
+    /// Impulse (N·s, down) on one column; ignored outside the grid or if not finite.
+    pub fn deposit_impulse_cell(&mut self, ix: usize, iy: usize, impulse: f64) {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny || !impulse.is_finite() || impulse == 0.0 {
+            return;
+        }
+        if self.pending.is_empty() {
+            self.pending = vec![0.0; self.cfg.nx * self.cfg.ny];
+        }
+        let i = iy * self.cfg.nx + ix;
+        if self.pending[i] == 0.0 {
+            self.touched.push(i);
+        }
+        self.pending[i] += impulse;
+    }
+
+    /// Impulse (N·s) gathered for the next step, all columns together.
+    pub fn pending_impulse(&self) -> f64 {
+        let mut seen = self.touched.clone();
+        seen.sort_unstable();
+        seen.dedup();
+        seen.iter().map(|&i| self.pending[i]).sum()
+    }
+
+    fn apply_pending_pressure(&mut self) {
+        if self.touched.is_empty() {
+            return;
+        }
+        if self.press.is_empty() {
+            self.press = vec![0.0; self.cfg.nx * self.cfg.ny];
+        }
+        let scale = 1.0 / (self.dt * self.cfg.cell * self.cfg.cell);
+        // Two passes: a column may be listed twice if its sum returned to zero in between.
+        for &i in &self.touched {
+            self.press[i] = self.pending[i] * scale;
+            self.row_press[i / self.cfg.nx] = true;
+        }
+        for &i in &self.touched {
+            self.pending[i] = 0.0;
+        }
+    }
+
+    fn clear_pressure(&mut self) {
+        for &i in &self.touched {
+            self.press[i] = 0.0;
+            self.row_press[i / self.cfg.nx] = false;
+        }
+        self.touched.clear();
+    }
+
+    // --- sampling -----------------------------------------------------------------------------
+
+    /// Column indices and weights for bilinear sampling on column centres; points in the outer half
+    /// cell take the edge column's value.
+    fn bilinear(&self, x: f64, y: f64) -> [(usize, usize, f64); 2] {
+        let l = self.cfg.cell;
+        let axis = |p: f64, o: f64, n: usize| {
+            let f = ((p - o) / l - 0.5).clamp(0.0, (n - 1) as f64);
+            let i0 = (f.floor() as usize).min(n.saturating_sub(2));
+            let t = (f - i0 as f64).clamp(0.0, 1.0);
+            (i0, (i0 + 1).min(n - 1), t)
+        };
+        [
+            axis(x, self.cfg.origin[0], self.cfg.nx),
+            axis(y, self.cfg.origin[1], self.cfg.ny),
+        ]
+    }
+
+    /// Whether world (x, y) lies over the grid.
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        let [ox, oy] = self.cfg.origin;
+        let l = self.cfg.cell;
+        x >= ox && y >= oy && x < ox + self.cfg.nx as f64 * l && y < oy + self.cfg.ny as f64 * l
+    }
+
+    /// Surface elevation η (m) above the rest level z = 0 at world (x, y), bilinear between column
+    /// centres; 0 outside the grid.
+    pub fn surface_height(&self, x: f64, y: f64) -> f64 {
+        if !self.contains(x, y) {
+            return 0.0;
+        }
+        let [(i0, i1, tx), (j0, j1, ty)] = self.bilinear(x, y);
+        let a = self.eta(i0, j0) + tx * (self.eta(i1, j0) - self.eta(i0, j0));
+        let b = self.eta(i0, j1) + tx * (self.eta(i1, j1) - self.eta(i0, j1));
+        a + ty * (b - a)
+    }
+
+    /// η (m) of column (ix, iy): bed + depth, relative to the rest level; 0 outside the grid.
+    pub fn eta(&self, ix: usize, iy: usize) -> f64 {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny {
+            return 0.0;
+        }
+        let d = self.cur[iy * self.co.stride() + ix];
+        match self.bed.get(iy * self.cfg.nx + ix) {
+            Some(&b) => (d + b) - self.cfg.depth,
+            None => d - self.cfg.depth,
+        }
+    }
+
+    /// η of every column, row-major (iy * nx + ix), for rendering as a texture.
+    pub fn eta_f32(&self, out: &mut Vec<f32>) {
+        let (nx, h) = (self.cfg.nx, self.cfg.depth);
+        out.clear();
+        out.reserve(nx * self.cfg.ny);
+        for (iy, row) in self.cur.chunks_exact(self.co.stride()).enumerate() {
+            let d = &row[..nx];
+            match self.bed.get(iy * nx..(iy + 1) * nx) {
+                Some(b) => out.extend(d.iter().zip(b).map(|(&d, &b)| ((d + b) - h) as f32)),
+                None => out.extend(d.iter().map(|&d| (d - h) as f32)),
+            }
+        }
+    }
+
+    /// Total water volume (m³): l²·Σ depth, Neumaier-compensated.
+    pub fn volume(&self) -> f64 {
+        let nx = self.cfg.nx;
+        let mut sum = Neumaier::default();
+        for row in self.cur.chunks_exact(self.co.stride()) {
+            for &d in &row[..nx] {
+                sum.add(d);
+            }
+        }
+        sum.value() * self.cfg.cell * self.cfg.cell
+    }
+
+    /// Water depth (m) of column (ix, iy); 0 outside the grid.
+    pub fn depth(&self, ix: usize, iy: usize) -> f64 {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny {
+            return 0.0;
+        }
+        self.cur[iy * self.co.stride() + ix]
+    }
+
+    /// Smallest depth of any column (m).
+    pub fn min_depth(&self) -> f64 {
+        let nx = self.cfg.nx;
+        self.cur
+            .chunks_exact(self.co.stride())
+            .flat_map(|r| r[..nx].iter().copied())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Largest |η| over the grid (m).
+    pub fn max_abs_eta(&self) -> f64 {
+        let mut m = 0.0f64;
+        for iy in 0..self.cfg.ny {
+            for ix in 0..self.cfg.nx {
+                m = m.max(self.eta(ix, iy).abs());
+            }
+        }
+        m
+    }
+
+    /// Bed elevation z (m) of column (ix, iy): −H unless set by [`Self::set_bed`].
+    pub fn bed(&self, ix: usize, iy: usize) -> f64 {
+        let b = self.bed.get(iy * self.cfg.nx + ix).copied().unwrap_or(0.0);
+        b - self.cfg.depth
+    }
+
+    /// The flow (m³/s) of pipe `pipe` (0: +x, 1: +y, 2: +x+y, 3: −x+y) owned by column (ix, iy); 0 for a
+    /// wall, a missing pipe or outside the grid.
+    pub fn flow(&self, ix: usize, iy: usize, pipe: usize) -> f64 {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny || pipe + 1 >= self.co.nf {
+            return 0.0;
+        }
+        self.cur[iy * self.co.stride() + (pipe + 1) * self.cfg.nx + ix]
+    }
+
+    // --- state setters (tests, studies, initial conditions) -----------------------------------
+
+    /// Sets the depth (m, clamped to ≥ 0) of column (ix, iy); ignored outside the grid or if not finite.
+    pub fn set_depth(&mut self, ix: usize, iy: usize, depth: f64) {
+        if ix < self.cfg.nx && iy < self.cfg.ny && depth.is_finite() {
+            self.cur[iy * self.co.stride() + ix] = depth.max(0.0);
+        }
+    }
+
+    /// Sets the surface elevation η (m) of column (ix, iy) by changing its depth (≥ 0).
+    pub fn set_eta(&mut self, ix: usize, iy: usize, eta: f64) {
+        let bed = self.bed(ix, iy);
+        self.set_depth(ix, iy, eta - bed);
+    }
+
+    /// Adds `dv` m³ to column (ix, iy) (the depth stays ≥ 0); ignored outside the grid.
+    pub fn add_volume(&mut self, ix: usize, iy: usize, dv: f64) {
+        let a = self.cfg.cell * self.cfg.cell;
+        let d = self.depth(ix, iy);
+        self.set_depth(ix, iy, d + dv / a);
+    }
+
+    /// Sets the bed elevation z (m) of column (ix, iy) (the flat bed is z = −H); the depth is kept.
+    /// Ignored outside the grid or if not finite.
+    pub fn set_bed(&mut self, ix: usize, iy: usize, z: f64) {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny || !z.is_finite() {
+            return;
+        }
+        if self.bed.is_empty() {
+            self.bed = vec![0.0; self.cfg.nx * self.cfg.ny];
+        }
+        self.bed[iy * self.cfg.nx + ix] = z + self.cfg.depth;
+        self.row_bed[iy] = true;
+    }
+
+    /// Zeroes every flow (the water is then at rest, whatever its surface).
+    pub fn clear_flows(&mut self) {
+        let nx = self.cfg.nx;
+        for row in self.cur.chunks_exact_mut(self.co.stride()) {
+            row[nx..].fill(0.0);
+        }
+    }
+
+    /// Starts a travelling swell η = A·sin(k·(n·x)) (n = heading) over the whole grid, with the flows of
+    /// the linear travelling wave Q = (gA_pipe/c)(e·n)·η at each pipe's midpoint, taken half a step
+    /// back (flows live at half steps), so it travels instead of splitting into two standing halves.
+    pub fn set_swell(&mut self, swell: &Swell) {
+        if !(swell.wavelength.is_finite() && swell.wavelength > 0.0 && swell.amplitude.is_finite()) {
+            return;
+        }
+        let (nx, ny, l) = (self.cfg.nx, self.cfg.ny, self.cfg.cell);
+        let [ox, oy] = self.cfg.origin;
+        let k = 2.0 * std::f64::consts::PI / swell.wavelength;
+        let (sn, cs) = swell.heading_deg.to_radians().sin_cos();
+        let c = self.wave_speed();
+        let omega = c * k;
+        let amp = swell.amplitude;
+        let eta = |x: f64, y: f64, t: f64| amp * (k * (cs * x + sn * y) - omega * t).sin();
+        let t_half = -0.5 * self.dt;
+        // Flow per unit η along each pipe: (gA/c)(e·n); A_axis, A_diag as in `with_config`.
+        let h = self.cfg.depth;
+        let (ax, ad) = if self.cfg.diagonal_pipes {
+            (2.0 / 3.0 * h * l, std::f64::consts::SQRT_2 / 6.0 * h * l)
+        } else {
+            (h * l, 0.0)
+        };
+        let g = self.cfg.gravity;
+        let (fx, fd) = if c > 0.0 {
+            (g * ax / c, g * ad / c)
+        } else {
+            (0.0, 0.0)
+        };
+        let r2 = std::f64::consts::FRAC_1_SQRT_2;
+        let stride = self.co.stride();
+        let diag = self.cfg.diagonal_pipes;
+        for iy in 0..ny {
+            let yc = oy + (iy as f64 + 0.5) * l;
+            for ix in 0..nx {
+                let xc = ox + (ix as f64 + 0.5) * l;
+                let base = iy * stride;
+                let bed = self.bed(ix, iy);
+                self.cur[base + ix] = (eta(xc, yc, 0.0) - bed).max(0.0);
+                let q = |f: usize| base + f * nx + ix;
+                if ix + 1 < nx {
+                    self.cur[q(1)] = fx * cs * eta(xc + 0.5 * l, yc, t_half);
+                }
+                if iy + 1 < ny {
+                    self.cur[q(2)] = fx * sn * eta(xc, yc + 0.5 * l, t_half);
+                    if diag && ix + 1 < nx {
+                        self.cur[q(3)] =
+                            fd * r2 * (cs + sn) * eta(xc + 0.5 * l, yc + 0.5 * l, t_half);
+                    }
+                    if diag && ix > 0 {
+                        self.cur[q(4)] =
+                            fd * r2 * (sn - cs) * eta(xc - 0.5 * l, yc + 0.5 * l, t_half);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Neumaier's compensated sum.
+#[derive(Debug, Default, Clone, Copy)]
+struct Neumaier {
+    sum: f64,
+    c: f64,
+}
+
+impl Neumaier {
+    fn add(&mut self, x: f64) {
+        let t = self.sum + x;
+        if self.sum.abs() >= x.abs() {
+            self.c += (self.sum - t) + x;
+        } else {
+            self.c += (x - t) + self.sum;
+        }
+        self.sum = t;
+    }
+    fn value(&self) -> f64 {
+        self.sum + self.c
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The kernel
+// ---------------------------------------------------------------------------------------------
+
+/// Read-only inputs of one step.
+struct Input<'a> {
+    old: &'a [f64],
+    bed: Option<&'a [f64]>,
+    press: Option<&'a [f64]>,
+    row_bed: &'a [bool],
+    row_press: &'a [bool],
+    zeros: &'a [f64],
+}
+
+
+fn run_chunk(co: &Coeffs, input: &Input, r0: usize, r1: usize, out: &mut [f64], s: &mut Scratch) {
+    if co.nf == 5 {
+        chunk::<true>(co, input, r0, r1, out, s);
+    } else {
+        chunk::<false>(co, input, r0, r1, out, s);
+    }
+}
+
+/// One chunk of rows [r0, r1), as one fused sweep. For each row j, starting two rows early:
+/// A(j) the new flows of row j's pipes (reads old rows j, j + 1); K(j) the limiter of row j (needs
+/// A(j − 1), A(j)); F(j − 1) the limited flows of row j − 1 (needs K(j − 1), K(j)); D(j − 1) the new
+/// depths of row j − 1 (needs F(j − 2), F(j − 1)). Row ny is virtual (K = 1). Two slots per buffer hold
+/// rows j − 1 and j; a slot not yet written holds zero flows, which is what the rows before the grid
+/// carry.
+fn chunk<const DIAG: bool>(
+    co: &Coeffs,
+    input: &Input,
+    r0: usize,
+    r1: usize,
+    out: &mut [f64],
+    s: &mut Scratch,
+) {
+    let (nx, ny) = (co.nx, co.ny);
+    let stride = co.stride();
+    let w = nx + 2;
+    let blk = (co.nf - 1) * w;
+    s.qn.fill(0.0);
+    s.qf.fill(0.0);
+    s.k.fill(1.0);
+    for j in r0.saturating_sub(2)..=r1 {
+        let cur = j % 2;
+        let oth = 1 - cur; // holds row j − 1 (or j + 1 later)
+        if j < ny {
+            {
+                let (qa, qb) = s.qn.split_at_mut(blk);
+                let qn = if cur == 0 { qa } else { qb };
+                flows_row::<DIAG>(co, input, j, qn, &mut s.h0, &mut s.h1);
+            }
+            if j + 1 >= r0 && !co.clamp {
+                let (qa, qb) = s.qn.split_at(blk);
+                let (own, before) = if cur == 0 { (qa, qb) } else { (qb, qa) };
+                let d = &input.old[j * stride..j * stride + nx];
+                let k = &mut s.k[cur * w + 1..cur * w + 1 + nx];
+                limiter_row::<DIAG>(k, d, own, before, w, co.beta);
+            }
+        } else {
+            s.k[cur * w..(cur + 1) * w].fill(1.0);
+        }
+        if j < r0 || j == 0 {
+            continue;
+        }
+        // F(j − 1) into slot `oth`.
+        {
+            let (ka, kb) = s.k.split_at(w);
+            let (k_own, k_up) = if oth == 0 { (ka, kb) } else { (kb, ka) };
+            let qn = &s.qn[oth * blk..(oth + 1) * blk];
+            let qf = &mut s.qf[oth * blk..(oth + 1) * blk];
+            finalize_row::<DIAG>(qf, qn, k_own, k_up, w);
+        }
+        let jm = j - 1;
+        if jm < r0 {
+            continue;
+        }
+        // D(j − 1): F(j − 1) is in slot `oth`, F(j − 2) in slot `cur`.
+        let (fa, fb) = s.qf.split_at(blk);
+        let (f_own, f_before) = if oth == 0 { (fa, fb) } else { (fb, fa) };
+        let orow = &mut out[(jm - r0) * stride..(jm - r0 + 1) * stride];
+        let (dn, qout) = orow.split_at_mut(nx);
+        let d_old = &input.old[jm * stride..jm * stride + nx];
+        depth_row::<DIAG>(dn, d_old, f_own, f_before, w, co.beta, co.clamp);
+        for (p, q) in qout.chunks_exact_mut(nx).enumerate() {
+            q.copy_from_slice(&f_own[p * w + 1..p * w + 1 + nx]);
+        }
+    }
+}
+
+/// A(j): the new, unlimited flows of row j's pipes into `qn` ([pipe][w], padded by one each side).
+fn flows_row<const DIAG: bool>(
+    co: &Coeffs,
+    input: &Input,
+    j: usize,
+    qn: &mut [f64],
+    h0buf: &mut [f64],
+    h1buf: &mut [f64],
+) {
+    let (nx, ny) = (co.nx, co.ny);
+    let stride = co.stride();
+    let w = nx + 2;
+    let row = &input.old[j * stride..(j + 1) * stride];
+    let has_up = j + 1 < ny;
+    let ju = if has_up { j + 1 } else { j };
+    let up = &input.old[ju * stride..(ju + 1) * stride];
+    // Surfaces h of rows j and j + 1: the depths, plus the bed where one is set.
+    let (h0, h1): (&[f64], &[f64]) = if input.row_bed[j] || input.row_bed[ju] {
+        surface(h0buf, &row[..nx], input.bed, j * nx);
+        surface(h1buf, &up[..nx], input.bed, ju * nx);
+        (&h0buf[..nx], &h1buf[..nx])
+    } else {
+        (&row[..nx], &up[..nx])
+    };
+    let (qn_x, rest) = qn.split_at_mut(w);
+    let (qn_y, rest) = rest.split_at_mut(w);
+    let (qn_d, qn_a) = rest.split_at_mut(if DIAG { w } else { 0 });
+    let (gx, gd, damp) = (co.gx, co.gd, co.damp);
+    grad_x(&mut qn_x[1..=nx], &row[nx..2 * nx], h0, damp, co.row_edge(gx, gd, j));
+    if has_up {
+        let ge = co.col_edge(gx, gd);
+        grad_y(&mut qn_y[1..=nx], &row[2 * nx..3 * nx], h0, h1, damp, gx, ge);
+        if DIAG {
+            grad_d(&mut qn_d[1..=nx], &row[3 * nx..4 * nx], h0, h1, damp, gd);
+            grad_a(&mut qn_a[1..=nx], &row[4 * nx..5 * nx], h0, h1, damp, gd);
+        }
+    } else {
+        qn_y.fill(0.0);
+        qn_d.fill(0.0);
+        qn_a.fill(0.0);
+    }
+    // External pressure E: + Δt·(A/(ρL))·(E_i − E_j), on the rows that hold some.
+    let Some(press) = input.press else {
+        return;
+    };
+    if !(input.row_press[j] || input.row_press[ju]) {
+        return;
+    }
+    let p0 = &press[j * nx..(j + 1) * nx];
+    let p1 = if has_up {
+        &press[ju * nx..(ju + 1) * nx]
+    } else {
+        &input.zeros[..nx]
+    };
+    let (px, pd) = (co.px, co.pd);
+    add_grad_x(&mut qn_x[1..=nx], p0, co.row_edge(px, pd, j));
+    if has_up {
+        add_grad_y(&mut qn_y[1..=nx], p0, p1, px, co.col_edge(px, pd));
+        if DIAG {
+            add_grad_d(&mut qn_d[1..=nx], p0, p1, pd);
+            add_grad_a(&mut qn_a[1..=nx], p0, p1, pd);
+        }
+    }
+}
+
+/// h = depth + bed (the bed may be absent).
+fn surface(h: &mut [f64], d: &[f64], bed: Option<&[f64]>, at: usize) {
+    let n = d.len();
+    let h = &mut h[..n];
+    match bed {
+        Some(b) => {
+            let b = &b[at..at + n];
+            for i in 0..n {
+                h[i] = d[i] + b[i];
+            }
+        }
+        None => h.copy_from_slice(d),
+    }
+}
+
+/// x pipes: qn[i] = damp·q[i] + a·(h[i] − h[i+1]); the last one is a wall (0).
+fn grad_x(qn: &mut [f64], q: &[f64], h: &[f64], damp: f64, a: f64) {
+    let n = h.len();
+    if n == 0 {
+        return;
+    }
+    let m = n - 1;
+    let (o, q, h0, h1) = (&mut qn[..m], &q[..m], &h[..m], &h[1..n]);
+    for i in 0..m {
+        o[i] = damp * q[i] + a * (h0[i] - h1[i]);
+    }
+    qn[m] = 0.0;
+}
+
+/// y pipes: qn[i] = damp·q[i] + a·(h0[i] − h1[i]); the first and last column use the wall
+/// coefficient `ae` (the mirrored diagonals).
+fn grad_y(qn: &mut [f64], q: &[f64], h0: &[f64], h1: &[f64], damp: f64, a: f64, ae: f64) {
+    let n = h0.len();
+    if n == 0 {
+        return;
+    }
+    let (o, q, h1) = (&mut qn[..n], &q[..n], &h1[..n]);
+    for i in 0..n {
+        o[i] = damp * q[i] + a * (h0[i] - h1[i]);
+    }
+    o[0] = damp * q[0] + ae * (h0[0] - h1[0]);
+    o[n - 1] = damp * q[n - 1] + ae * (h0[n - 1] - h1[n - 1]);
+}
+
+/// +x+y pipes: qn[i] = damp·q[i] + a·(h0[i] − h1[i+1]); the last column's is a wall.
+fn grad_d(qn: &mut [f64], q: &[f64], h0: &[f64], h1: &[f64], damp: f64, a: f64) {
+    let n = h0.len();
+    if n == 0 {
+        return;
+    }
+    let m = n - 1;
+    let (o, q, a0, a1) = (&mut qn[..m], &q[..m], &h0[..m], &h1[1..n]);
+    for i in 0..m {
+        o[i] = damp * q[i] + a * (a0[i] - a1[i]);
+    }
+    qn[m] = 0.0;
+}
+
+/// −x+y pipes: qn[i] = damp·q[i] + a·(h0[i] − h1[i−1]); the first column's is a wall.
+fn grad_a(qn: &mut [f64], q: &[f64], h0: &[f64], h1: &[f64], damp: f64, a: f64) {
+    let n = h0.len();
+    if n == 0 {
+        return;
+    }
+    let m = n - 1;
+    qn[0] = 0.0;
+    let (o, q, a0, a1) = (&mut qn[1..n], &q[1..n], &h0[1..n], &h1[..m]);
+    for i in 0..m {
+        o[i] = damp * q[i] + a * (a0[i] - a1[i]);
+    }
+}
+
+fn add_grad_x(qn: &mut [f64], p: &[f64], a: f64) {
+    let n = p.len();
+    if n == 0 {
+        return;
+    }
+    let m = n - 1;
+    let (o, p0, p1) = (&mut qn[..m], &p[..m], &p[1..n]);
+    for i in 0..m {
+        o[i] += a * (p0[i] - p1[i]);
+    }
+}
+
+fn add_grad_y(qn: &mut [f64], p0: &[f64], p1: &[f64], a: f64, ae: f64) {
+    let n = p0.len();
+    if n == 0 {
+        return;
+    }
+    let (o, p1) = (&mut qn[..n], &p1[..n]);
+    for i in 0..n {
+        let c = if i == 0 || i + 1 == n { ae } else { a };
+        o[i] += c * (p0[i] - p1[i]);
+    }
+}
+
+fn add_grad_d(qn: &mut [f64], p0: &[f64], p1: &[f64], a: f64) {
+    let n = p0.len();
+    if n == 0 {
+        return;
+    }
+    let m = n - 1;
+    let (o, a0, a1) = (&mut qn[..m], &p0[..m], &p1[1..n]);
+    for i in 0..m {
+        o[i] += a * (a0[i] - a1[i]);
+    }
+}
+
+fn add_grad_a(qn: &mut [f64], p0: &[f64], p1: &[f64], a: f64) {
+    let n = p0.len();
+    if n == 0 {
+        return;
+    }
+    let m = n - 1;
+    let (o, a0, a1) = (&mut qn[1..n], &p0[1..n], &p1[..m]);
+    for i in 0..m {
+        o[i] += a * (a0[i] - a1[i]);
+    }
+}
+
+/// max(x, 0) as a plain compare (vectorises to one max).
+#[inline(always)]
+fn pos(x: f64) -> f64 {
+    if x > 0.0 {
+        x
+    } else {
+        0.0
+    }
+}
+
+/// K = min(1, cap/out), cap = max(depth, 0): never NaN (out > cap ≥ 0 before dividing).
+#[inline(always)]
+fn kfactor(depth: f64, out: f64) -> f64 {
+    let cap = pos(depth);
+    if out > cap {
+        cap / out
+    } else {
+        1.0
+    }
+}
+
+/// K(j) = min(1, depth/(β·Σ outflow)) of each column of row j (Mei et al. 2007, eq. 4), from the new
+/// flows of row j (`own`) and row j − 1 (`before`; zeros before the grid). Outflows are summed in
+/// pairs of opposite pipes, so mirror images round alike.
+fn limiter_row<const DIAG: bool>(
+    k: &mut [f64],
+    d: &[f64],
+    own: &[f64],
+    before: &[f64],
+    w: usize,
+    beta: f64,
+) {
+    let n = d.len();
+    let k = &mut k[..n];
+    let x_own = &own[1..=n];
+    let x_left = &own[..n];
+    let y_own = &own[w + 1..w + 1 + n];
+    let y_below = &before[w + 1..w + 1 + n];
+    if DIAG {
+        let d_own = &own[2 * w + 1..2 * w + 1 + n];
+        let a_own = &own[3 * w + 1..3 * w + 1 + n];
+        // The +x+y pipe into (i, j) is owned by (i − 1, j − 1), the −x+y pipe by (i + 1, j − 1).
+        let d_below = &before[2 * w..2 * w + n];
+        let a_below = &before[3 * w + 2..3 * w + 2 + n];
+        for i in 0..n {
+            let ox = pos(x_own[i]) + pos(-x_left[i]);
+            let oy = pos(y_own[i]) + pos(-y_below[i]);
+            let od = pos(d_own[i]) + pos(-d_below[i]);
+            let oa = pos(a_own[i]) + pos(-a_below[i]);
+            k[i] = kfactor(d[i], beta * ((ox + oy) + (od + oa)));
+        }
+    } else {
+        for i in 0..n {
+            let ox = pos(x_own[i]) + pos(-x_left[i]);
+            let oy = pos(y_own[i]) + pos(-y_below[i]);
+            k[i] = kfactor(d[i], beta * (ox + oy));
+        }
+    }
+}
+
+/// F(j): each pipe of row j scaled by K of its upwind column: the owner's K for a positive flow, the
+/// other end's for a negative one (`k_own`, `k_up`: padded K of rows j and j + 1).
+fn finalize_row<const DIAG: bool>(qf: &mut [f64], qn: &[f64], k_own: &[f64], k_up: &[f64], w: usize) {
+    let n = w - 2;
+    let scale = |f: &mut [f64], q: &[f64], kd: &[f64], ku: &[f64]| {
+        let (f, q, kd, ku) = (&mut f[..n], &q[..n], &kd[..n], &ku[..n]);
+        for i in 0..n {
+            let kk = if q[i] >= 0.0 { kd[i] } else { ku[i] };
+            f[i] = q[i] * kk;
+        }
+    };
+    let kd = &k_own[1..];
+    let (fx, rest) = qf.split_at_mut(w);
+    let (fy, rest) = rest.split_at_mut(w);
+    scale(&mut fx[1..], &qn[1..], kd, &k_own[2..]);
+    scale(&mut fy[1..], &qn[w + 1..], kd, &k_up[1..]);
+    if DIAG {
+        let (fd, fa) = rest.split_at_mut(w);
+        scale(&mut fd[1..], &qn[2 * w + 1..], kd, &k_up[2..]);
+        scale(&mut fa[1..], &qn[3 * w + 1..], kd, k_up);
+    }
+}
+
+/// D(j): depth + β·Σ(inflow − outflow), summed in pairs of opposite pipes; then the paper's eq. 41
+/// clamp if asked.
+fn depth_row<const DIAG: bool>(
+    dn: &mut [f64],
+    d: &[f64],
+    own: &[f64],
+    before: &[f64],
+    w: usize,
+    beta: f64,
+    clamp: bool,
+) {
+    let n = d.len();
+    let dn = &mut dn[..n];
+    let x_own = &own[1..=n];
+    let x_left = &own[..n];
+    let y_own = &own[w + 1..w + 1 + n];
+    let y_below = &before[w + 1..w + 1 + n];
+    if DIAG {
+        let d_own = &own[2 * w + 1..2 * w + 1 + n];
+        let a_own = &own[3 * w + 1..3 * w + 1 + n];
+        let d_below = &before[2 * w..2 * w + n];
+        let a_below = &before[3 * w + 2..3 * w + 2 + n];
+        for i in 0..n {
+            let sx = x_left[i] - x_own[i];
+            let sy = y_below[i] - y_own[i];
+            let sd = d_below[i] - d_own[i];
+            let sa = a_below[i] - a_own[i];
+            dn[i] = d[i] + beta * ((sx + sy) + (sd + sa));
+        }
+    } else {
+        for i in 0..n {
+            let sx = x_left[i] - x_own[i];
+            let sy = y_below[i] - y_own[i];
+            dn[i] = d[i] + beta * (sx + sy);
+        }
+    }
+    if clamp {
+        for v in dn.iter_mut() {
+            *v = pos(*v);
+        }
+    }
+}
