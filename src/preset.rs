@@ -11,10 +11,10 @@ use crate::sim::params::{ParamError, Preset};
 /// Why a preset could not be read or written. Displayed as one line: `file:line:col: message`.
 #[derive(Debug, thiserror::Error)]
 pub enum PresetError {
-    #[error("{path}: cannot read the preset: {source}")]
+    #[error("{path}: cannot read the preset: {error}")]
     Read {
         path: PathBuf,
-        source: std::io::Error,
+        error: std::io::Error,
     },
     #[error("{path}:{line}:{col}: {message}")]
     Syntax {
@@ -23,11 +23,11 @@ pub enum PresetError {
         col: usize,
         message: String,
     },
-    #[error("{path}:{line}: {source}")]
+    #[error("{path}:{line}: {error}")]
     Invalid {
         path: PathBuf,
         line: usize,
-        source: ParamError,
+        error: ParamError,
     },
     #[error("{path}: cannot save the preset: {message}")]
     Write { path: PathBuf, message: String },
@@ -35,9 +35,9 @@ pub enum PresetError {
 
 /// Reads and validates a preset file.
 pub fn load(path: &Path) -> Result<Preset, PresetError> {
-    let text = fs::read_to_string(path).map_err(|source| PresetError::Read {
+    let text = fs::read_to_string(path).map_err(|error| PresetError::Read {
         path: path.to_owned(),
-        source,
+        error,
     })?;
     parse(&text, path)
 }
@@ -52,10 +52,10 @@ pub fn parse(text: &str, path: &Path) -> Result<Preset, PresetError> {
             col: e.span.start.col,
             message: explain(&e.code),
         })?;
-    preset.validate().map_err(|source| PresetError::Invalid {
+    preset.validate().map_err(|error| PresetError::Invalid {
         path: path.to_owned(),
-        line: locate_field(text, &source.field),
-        source,
+        line: locate_field(text, &error.field),
+        error,
     })?;
     Ok(preset)
 }

@@ -12,6 +12,7 @@ pub mod hydro;
 pub mod integrate;
 pub mod params;
 pub mod reference;
+pub mod scenario;
 pub mod stone;
 pub mod water;
 

@@ -1,0 +1,222 @@
+//! The camera: an orbit camera (target, yaw, pitch, distance) with the app's views — the default
+//! view (contract: behind and above the launch point, looking along the throw, the horizon in the
+//! upper third), following the stone, a side view like the paper's Fig. 13, and framing a box.
+//!
+//! World frame z up. Matrices are right-handed with wgpu's depth range, reversed (near → 1, infinity
+//! → 0) for precision from the stone to the horizon.
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use crate::sim::params::Preset;
+
+/// Vertical field of view of every view (radians).
+pub const FOV_Y: f32 = 50.0 * std::f32::consts::PI / 180.0;
+/// Near clipping distance (m).
+pub const NEAR: f32 = 0.02;
+/// Pitch of the default view below the horizontal (radians): the horizon sits at 0.53 of the
+/// half-height above the centre, about a quarter from the top (the upper third).
+pub const DEFAULT_PITCH: f32 = -14.0 * std::f32::consts::PI / 180.0;
+/// Eye of the default view: this far behind the launch point (m) …
+pub const DEFAULT_BACK: f32 = 2.6;
+/// … and this high above the water (m).
+pub const DEFAULT_HEIGHT: f32 = 1.1;
+
+/// An orbit camera looking at `target` from `distance` along the direction (yaw, pitch).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    /// Point looked at (m).
+    pub target: Vec3,
+    /// Direction of view about +z from +x (radians).
+    pub yaw: f32,
+    /// Elevation of the view direction (radians, negative looks down).
+    pub pitch: f32,
+    /// Eye to target (m).
+    pub distance: f32,
+    /// Vertical field of view (radians).
+    pub fov_y: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self::looking(Vec3::new(-DEFAULT_BACK, 0.0, DEFAULT_HEIGHT), 0.0, DEFAULT_PITCH)
+    }
+}
+
+impl Camera {
+    /// A camera at `eye` looking along (yaw, pitch), its target where the view meets the water (or
+    /// 10 m ahead when it looks up).
+    pub fn looking(eye: Vec3, yaw: f32, pitch: f32) -> Self {
+        let pitch = pitch.clamp(-1.55, 1.55);
+        let dir = direction(yaw, pitch);
+        let distance = if dir.z < -0.05 {
+            (eye.z / -dir.z).clamp(0.5, 200.0)
+        } else {
+            10.0
+        };
+        Self {
+            target: eye + dir * distance,
+            yaw,
+            pitch,
+            distance,
+            fov_y: FOV_Y,
+        }
+    }
+
+    /// The default view of a preset (contract): behind and above the launch point, looking along
+    /// the throw's heading, the horizon in the upper third.
+    pub fn default_for(preset: &Preset) -> Self {
+        let l = &preset.launch;
+        let yaw = throw_heading(preset);
+        let back = Vec3::new(yaw.cos(), yaw.sin(), 0.0) * DEFAULT_BACK;
+        let eye = Vec3::new(l.position[0] as f32, l.position[1] as f32, 0.0) - back
+            + Vec3::Z * DEFAULT_HEIGHT;
+        Self::looking(eye, yaw, DEFAULT_PITCH)
+    }
+
+    /// Unit view direction.
+    pub fn forward(&self) -> Vec3 {
+        direction(self.yaw, self.pitch)
+    }
+
+    /// Eye position (m).
+    pub fn eye(&self) -> Vec3 {
+        self.target - self.forward() * self.distance
+    }
+
+    pub fn view_from_world(&self) -> Mat4 {
+        glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Z)
+    }
+
+    /// Reversed-depth infinite perspective for a viewport of `aspect` = width / height.
+    pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
+        let aspect = if aspect.is_finite() && aspect > 1e-3 { aspect } else { 1.0 };
+        let fov = self.fov_y.clamp(0.05, 3.0);
+        glam::camera::rh::proj::directx::perspective_infinite_reverse(fov, aspect, NEAR)
+    }
+
+    pub fn clip_from_world(&self, aspect: f32) -> Mat4 {
+        self.clip_from_view(aspect) * self.view_from_world()
+    }
+
+    /// Pixel (x right, y down, from the top-left corner) where a world point appears in a
+    /// `width` × `height` image; `None` behind the eye.
+    pub fn project(&self, world: Vec3, width: u32, height: u32) -> Option<Vec2> {
+        let clip = self.clip_from_world(width as f32 / height.max(1) as f32) * world.extend(1.0);
+        if clip.w <= 1e-6 {
+            return None;
+        }
+        let ndc = Vec4::new(clip.x / clip.w, clip.y / clip.w, 0.0, 0.0);
+        Some(Vec2::new(
+            (ndc.x * 0.5 + 0.5) * width as f32,
+            (0.5 - ndc.y * 0.5) * height as f32,
+        ))
+    }
+
+    /// Turns about the target (radians).
+    pub fn orbit(&mut self, d_yaw: f32, d_pitch: f32) {
+        self.yaw = wrap_angle(self.yaw + d_yaw);
+        self.pitch = (self.pitch + d_pitch).clamp(-1.5, 1.5);
+    }
+
+    /// Moves towards the target (`factor` < 1) or away (> 1).
+    pub fn zoom(&mut self, factor: f32) {
+        if factor.is_finite() && factor > 0.0 {
+            self.distance = (self.distance * factor).clamp(0.15, 2000.0);
+        }
+    }
+
+    /// Slides the target across the view by a drag of (dx, dy) pixels in a viewport `height`
+    /// pixels tall, so the point under the cursor stays under it.
+    pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {
+        let per_pixel = 2.0 * self.distance * (0.5 * self.fov_y).tan() / height.max(1.0);
+        let f = self.forward();
+        let right = f.cross(Vec3::Z).normalize_or(Vec3::X);
+        let up = right.cross(f);
+        self.target += (-dx * right + dy * up) * per_pixel;
+    }
+
+    /// Keeps the view direction and distance, moving the target to `point`.
+    pub fn follow(&mut self, point: Vec3) {
+        self.target = point;
+    }
+
+    /// Looks at the box [lo, hi] from the throw's left side, level with the water, like the
+    /// paper's Fig. 13 (a side view of the trajectory): the whole box fits the view.
+    pub fn side_view(lo: Vec3, hi: Vec3, heading: f32, aspect: f32) -> Self {
+        let centre = 0.5 * (lo + hi);
+        let along = Vec3::new(heading.cos(), heading.sin(), 0.0);
+        let extent = ((hi - lo) * Vec3::new(1.0, 1.0, 0.0)).dot(along.abs()).max(0.5);
+        let height = (hi.z - lo.z).max(0.2);
+        let fov = FOV_Y;
+        let fit_w = 0.5 * extent / ((0.5 * fov).tan() * aspect.max(0.2));
+        let fit_h = 0.5 * height / (0.5 * fov).tan();
+        let distance = 1.15 * fit_w.max(fit_h) + 0.5;
+        // Looking along +90° from the heading: the throw runs left to right.
+        Self {
+            target: Vec3::new(centre.x, centre.y, 0.5 * (lo.z.max(0.0) + hi.z)),
+            yaw: wrap_angle(heading + std::f32::consts::FRAC_PI_2),
+            pitch: -4.0_f32.to_radians(),
+            distance,
+            fov_y: fov,
+        }
+    }
+
+    /// Keeps the view direction, moving target and distance so the box [lo, hi] fits the view.
+    pub fn frame(&mut self, lo: Vec3, hi: Vec3, aspect: f32) {
+        let centre = 0.5 * (lo + hi);
+        let radius = (0.5 * (hi - lo).length()).max(0.25);
+        let half = 0.5 * self.fov_y.min(self.fov_y * aspect.clamp(0.2, 5.0));
+        self.target = centre;
+        self.distance = (1.1 * radius / half.sin()).clamp(0.3, 2000.0);
+    }
+}
+
+/// Heading of a preset's throw (radians about +z from +x): its horizontal velocity, or the stone's
+/// heading when thrown straight down.
+pub fn throw_heading(preset: &Preset) -> f32 {
+    let v = preset.launch.velocity;
+    if v[0].hypot(v[1]) > 1e-6 {
+        v[1].atan2(v[0]) as f32
+    } else {
+        preset.launch.attitude.heading_deg.to_radians() as f32
+    }
+}
+
+fn direction(yaw: f32, pitch: f32) -> Vec3 {
+    Vec3::new(pitch.cos() * yaw.cos(), pitch.cos() * yaw.sin(), pitch.sin())
+}
+
+fn wrap_angle(a: f32) -> f32 {
+    let tau = std::f32::consts::TAU;
+    let w = a.rem_euclid(tau);
+    if w > std::f32::consts::PI {
+        w - tau
+    } else {
+        w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_view_puts_horizon_in_upper_third() {
+        let cam = Camera::default_for(&Preset::default());
+        // A far point on the horizon ahead.
+        let far = cam.eye() + Vec3::new(5000.0, 0.0, -cam.eye().z);
+        let p = cam.project(far, 320, 180).unwrap();
+        assert!(p.y < 60.0 && p.y > 0.0, "horizon at y = {}", p.y);
+        // The launch point is in view, below the centre.
+        let launch = cam.project(Vec3::new(0.0, 0.0, 0.3), 320, 180).unwrap();
+        assert!(launch.x > 100.0 && launch.x < 220.0 && launch.y > 90.0 && launch.y < 180.0);
+    }
+
+    #[test]
+    fn eye_is_behind_and_above_launch() {
+        let cam = Camera::default_for(&Preset::default());
+        let eye = cam.eye();
+        assert!(eye.x < 0.0 && eye.z > 0.3, "{eye:?}");
+        assert!(cam.forward().x > 0.9);
+    }
+}

@@ -1,0 +1,183 @@
+//! Geometry for the GPU: the stone's vertices with smooth normals split at creases, the water grid's
+//! triangle indices and the far water plane around the grid. All of it is built once per stone or
+//! grid, never per frame.
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+
+use crate::sim::stone::Mesh;
+
+/// Faces meeting at more than this angle keep a hard edge (a disc's rim, a plate's corners).
+pub const CREASE_DEG: f64 = 50.0;
+
+/// One vertex of the stone: body-frame position and normal.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct StoneVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+}
+
+/// Unindexed vertices (three per triangle) with normals averaged over the faces around each
+/// corner's vertex whose normals are within [`CREASE_DEG`] of the corner's face.
+pub fn stone_vertices(mesh: &Mesh) -> Vec<StoneVertex> {
+    let n_tri = mesh.triangles.len();
+    let face: Vec<(DVec3, f64)> = (0..n_tri).map(|i| mesh.normal_area(i)).collect();
+    let mut around: Vec<Vec<usize>> = vec![Vec::new(); mesh.positions.len()];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for &v in tri {
+            if let Some(list) = around.get_mut(v as usize) {
+                list.push(t);
+            }
+        }
+    }
+    let cos_crease = CREASE_DEG.to_radians().cos();
+    let mut out = Vec::with_capacity(3 * n_tri);
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let (fn_t, _) = face[t];
+        for &v in tri {
+            let mut sum = DVec3::ZERO;
+            if let Some(list) = around.get(v as usize) {
+                for &o in list {
+                    let (fn_o, area) = face[o];
+                    if fn_o.dot(fn_t) >= cos_crease {
+                        sum += fn_o * area;
+                    }
+                }
+            }
+            let normal = sum.try_normalize().unwrap_or(fn_t);
+            let p = mesh.positions.get(v as usize).copied().unwrap_or(DVec3::ZERO);
+            out.push(StoneVertex {
+                position: p.as_vec3().to_array(),
+                normal: normal.as_vec3().to_array(),
+            });
+        }
+    }
+    out
+}
+
+/// A cheap fingerprint of a mesh (so the renderer re-uploads only a changed stone).
+pub fn mesh_key(mesh: &Mesh) -> u64 {
+    // FNV-1a over the coordinates' bits and the triangle count.
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: u64| {
+        h ^= x;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    };
+    eat(mesh.triangles.len() as u64);
+    for p in &mesh.positions {
+        eat(p.x.to_bits());
+        eat(p.y.to_bits());
+        eat(p.z.to_bits());
+    }
+    h
+}
+
+/// Water mesh size (vertices per row, per column) for a grid of `nx` × `ny` columns: one vertex per
+/// column up to [`MAX_WATER_VERTICES`] in all; coarser beyond (the shading stays per pixel).
+pub fn water_mesh_size(nx: usize, ny: usize) -> (u32, u32) {
+    let (nx, ny) = (nx.max(2) as f64, ny.max(2) as f64);
+    let scale = ((MAX_WATER_VERTICES as f64) / (nx * ny)).sqrt().min(1.0);
+    let mx = (nx * scale).round().max(2.0) as u32;
+    let my = (ny * scale).round().max(2.0) as u32;
+    (mx, my)
+}
+
+/// Most vertices of the water mesh.
+pub const MAX_WATER_VERTICES: usize = 262_144;
+
+/// Triangle indices of an `mx` × `my` vertex grid (vertex index = iy * mx + ix).
+pub fn grid_indices(mx: u32, my: u32) -> Vec<u32> {
+    let mut idx = Vec::with_capacity(6 * (mx.saturating_sub(1) * my.saturating_sub(1)) as usize);
+    for iy in 0..my.saturating_sub(1) {
+        for ix in 0..mx.saturating_sub(1) {
+            let a = iy * mx + ix;
+            let b = a + 1;
+            let c = a + mx;
+            let d = c + 1;
+            idx.extend_from_slice(&[a, b, d, a, d, c]);
+        }
+    }
+    idx
+}
+
+/// Half-width of the far water plane (m): the horizon's haze hides its edge.
+pub const FAR_PLANE: f32 = 6000.0;
+
+/// The far water plane: a square frame around the rectangle [lo, hi] (z = 0), or a whole square
+/// when `lo == hi`. Returns (vertices, indices), counter-clockwise seen from above.
+pub fn far_plane(lo: [f32; 2], hi: [f32; 2]) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let cx = 0.5 * (lo[0] + hi[0]);
+    let cy = 0.5 * (lo[1] + hi[1]);
+    let r = FAR_PLANE;
+    let outer = [
+        [cx - r, cy - r],
+        [cx + r, cy - r],
+        [cx + r, cy + r],
+        [cx - r, cy + r],
+    ];
+    let inner = [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]];
+    let mut v: Vec<[f32; 3]> = outer.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    v.extend(inner.iter().map(|p| [p[0], p[1], 0.0]));
+    let mut idx = Vec::with_capacity(24);
+    for k in 0..4u32 {
+        let o0 = k;
+        let o1 = (k + 1) % 4;
+        let i0 = 4 + k;
+        let i1 = 4 + (k + 1) % 4;
+        idx.extend_from_slice(&[o0, o1, i1, o0, i1, i0]);
+    }
+    (v, idx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::params::{Shape, StoneParams};
+    use crate::sim::stone::Stone;
+    use glam::Vec3;
+
+    #[test]
+    fn stone_normals_point_outward() {
+        for shape in [
+            Shape::Disk {
+                radius: 0.05,
+                thickness: 0.01,
+            },
+            Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            Shape::Plate {
+                length: 0.1,
+                width: 0.08,
+                thickness: 0.004,
+            },
+        ] {
+            let stone = Stone::new(&StoneParams {
+                shape,
+                mass: 0.1,
+                segments: 24,
+            })
+            .unwrap();
+            let v = stone_vertices(&stone.mesh);
+            assert_eq!(v.len(), 3 * stone.mesh.triangles.len());
+            for x in &v {
+                let p = Vec3::from_array(x.position);
+                let n = Vec3::from_array(x.normal);
+                assert!((n.length() - 1.0).abs() < 1e-4);
+                assert!(n.dot(p) > -1e-6, "{shape:?}: inward normal at {p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn grid_and_far_plane_sizes() {
+        assert_eq!(grid_indices(3, 2).len(), 12);
+        assert_eq!(water_mesh_size(800, 240), (800, 240));
+        let (mx, my) = water_mesh_size(4000, 1000);
+        assert!((mx * my) as usize <= MAX_WATER_VERTICES + 4000);
+        let (v, i) = far_plane([0.0, 0.0], [1.0, 1.0]);
+        assert_eq!((v.len(), i.len()), (8, 24));
+    }
+}

@@ -1,0 +1,91 @@
+//! Throws stated at impact, as the literature states them (Clanet et al. 2004; design.md §8):
+//! speed U, impact angle β below the horizontal, attack (tilt) angle α, the stone's lowest point
+//! just above the surface. The first contact's outcome and the minimal speed that skips
+//! (bisection), for the magic-angle curves of physics.md §2–3.
+
+use glam::DMat3;
+
+use super::params::Preset;
+use super::stone::{orientation_from_attitude, Stone};
+use super::{SimError, Simulation};
+
+/// Gap between the lowest point and the surface at the start of an impact throw (m): small
+/// enough that gravity changes the velocity by less than 1e-5 m/s before the touch.
+pub const IMPACT_CLEARANCE: f64 = 1e-6;
+
+/// `base` with the launch replaced by a throw at impact along +x: speed `speed` (m/s) at angle
+/// `beta` (rad) below the horizontal, the preset's attitude, the lowest point `clearance` above
+/// z = 0.
+pub fn at_impact(base: &Preset, speed: f64, beta: f64, clearance: f64) -> Result<Preset, SimError> {
+    let mut p = base.clone();
+    let stone = Stone::new(&p.stone)?;
+    let r = DMat3::from_quat(orientation_from_attitude(&p.launch.attitude));
+    let lowest = stone
+        .mesh
+        .positions
+        .iter()
+        .map(|&v| (r * v).z)
+        .fold(f64::INFINITY, f64::min);
+    p.launch.position = [0.0, 0.0, clearance - lowest];
+    p.launch.velocity = [speed * beta.cos(), 0.0, -speed * beta.sin()];
+    p.validate()?;
+    Ok(p)
+}
+
+/// How the first contact of a throw ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FirstContact {
+    /// Left the water (a skip).
+    pub skipped: bool,
+    /// Duration of the contact (s).
+    pub duration: f64,
+    /// Velocity after it (m/s).
+    pub v_out: [f64; 3],
+    /// Force evaluations spent.
+    pub force_evals: u64,
+}
+
+/// Runs `preset` until its first contact episode ends (or the run ends). `None` if the stone
+/// never touched the water.
+pub fn first_contact(preset: &Preset) -> Result<Option<FirstContact>, SimError> {
+    let mut sim = Simulation::new(preset)?;
+    loop {
+        let done = sim.contacts().first().is_some_and(|c| !c.open);
+        if done || sim.is_finished() {
+            break;
+        }
+        sim.tick();
+    }
+    Ok(sim.contacts().first().map(|c| FirstContact {
+        skipped: c.skip,
+        duration: c.t_end - c.t_start,
+        v_out: c.v_out,
+        force_evals: sim.cost().1,
+    }))
+}
+
+/// Smallest impact speed in [`lo`, `hi`] m/s at impact angle `beta` whose first contact is a skip,
+/// to relative precision `rel_tol`, by bisection (skipping is taken as monotone in speed). `None`
+/// when even `hi` does not skip; `Some(lo)` when `lo` already skips.
+pub fn min_speed(base: &Preset, beta: f64, lo: f64, hi: f64, rel_tol: f64) -> Result<Option<f64>, SimError> {
+    let skips = |u: f64| -> Result<bool, SimError> {
+        let p = at_impact(base, u, beta, IMPACT_CLEARANCE)?;
+        Ok(first_contact(&p)?.is_some_and(|c| c.skipped))
+    };
+    if !skips(hi)? {
+        return Ok(None);
+    }
+    if skips(lo)? {
+        return Ok(Some(lo));
+    }
+    let (mut a, mut b) = (lo, hi);
+    while (b - a) > rel_tol * b {
+        let m = 0.5 * (a + b);
+        if skips(m)? {
+            b = m;
+        } else {
+            a = m;
+        }
+    }
+    Ok(Some(0.5 * (a + b)))
+}
