@@ -1,8 +1,105 @@
-//! Rendering (placeholder until the renderer lands).
+//! Rendering with wgpu: the stone, the water surface (a height field from the simulated grid), the
+//! sky, the trail, contact markers and splash cues; the camera; offscreen capture to PNG.
+//!
+//! The same [`Scene`] (built from a [`Simulation`] by [`Scene::from_simulation`]) is drawn in the
+//! app's window and offscreen, so `stoneskip render` and the picture tests show what the app shows.
+//! This module never steps the physics on its own clock: [`render_image`] ticks the simulation
+//! exactly as the app does, then draws.
+
+pub mod camera;
+pub mod gpu;
+pub mod mesh;
+pub mod offscreen;
+pub mod renderer;
+pub mod scene;
+
 use std::path::Path;
 
-use crate::sim::params::Preset;
+pub use camera::Camera;
+pub use offscreen::Offscreen;
+pub use renderer::{RendererConfig, SceneRenderer, Viewport};
+pub use scene::{Scene, SceneStyle, Trail, WaterHeights};
 
-pub fn render_to_png(_preset: &Preset, _out: &Path, _w: u32, _h: u32, _t: f64) -> anyhow::Result<()> {
-    anyhow::bail!("the renderer is not built yet")
+use crate::sim::params::Preset;
+use crate::sim::{SimError, Simulation};
+
+/// Why a picture could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(
+        "no graphics adapter found: tried {tried}. To fix: install a driver — on Debian/Ubuntu \
+         without a GPU, Mesa's software renderers: `apt-get install mesa-vulkan-drivers libvulkan1 \
+         libegl1 libgl1-mesa-dri` — or choose a backend with WGPU_BACKEND=gl (or vulkan); an empty \
+         WGPU_BACKEND disables every backend"
+    )]
+    NoAdapter { tried: String },
+    #[error("the graphics adapter {adapter} refused a device: {message}")]
+    Device { adapter: String, message: String },
+    #[error("cannot read the picture back from the GPU: {0}")]
+    Readback(String),
+    #[error("picture size {width}×{height} is out of range (1 to 8192 pixels a side)")]
+    Size { width: u32, height: u32 },
+    #[error("time {0} s is out of range (expected a finite time ≥ 0)")]
+    Time(f64),
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    #[error("cannot write the PNG: {0}")]
+    Image(#[from] image::ImageError),
+}
+
+/// Number of ticks of `dt` that reach simulated time `time` (the same count the app runs).
+pub fn ticks_until(time: f64, dt: f64) -> u64 {
+    if !(time > 0.0) || !(dt > 0.0) {
+        return 0;
+    }
+    (time / dt - 1e-6).ceil().max(0.0) as u64
+}
+
+/// A simulation advanced to `time` with its trail: the state every picture of a preset starts from.
+pub struct SimulatedScene {
+    pub sim: Simulation,
+    pub trail: Trail,
+    pub heights: WaterHeights,
+}
+
+impl SimulatedScene {
+    /// Builds the preset's simulation and ticks it up to `time` (s).
+    pub fn at_time(preset: &Preset, time: f64) -> Result<Self, RenderError> {
+        if !time.is_finite() || time < 0.0 {
+            return Err(RenderError::Time(time));
+        }
+        let mut sim = Simulation::new(preset)?;
+        let mut trail = Trail::new();
+        trail.start(sim.state().position);
+        for _ in 0..ticks_until(time, preset.physics.dt) {
+            sim.tick_with(&mut |s| trail.push(s));
+        }
+        let mut heights = WaterHeights::new();
+        heights.refresh(&sim, 0);
+        Ok(Self { sim, trail, heights })
+    }
+
+    /// The scene with the app's default camera.
+    pub fn scene(&self, style: SceneStyle) -> Scene<'_> {
+        let camera = Camera::default_for(self.sim.preset());
+        Scene::from_simulation(&self.sim, None, &self.trail, &self.heights, camera, style)
+    }
+}
+
+/// Renders the preset's scene at simulated time `time` with the default camera.
+pub fn render_image(preset: &Preset, width: u32, height: u32, time: f64) -> Result<image::RgbaImage, RenderError> {
+    if width == 0 || height == 0 || width > offscreen::MAX_SIDE || height > offscreen::MAX_SIDE {
+        return Err(RenderError::Size { width, height });
+    }
+    let state = SimulatedScene::at_time(preset, time)?;
+    let mut off = Offscreen::new()?;
+    off.render(&state.scene(SceneStyle::default()), width, height)
+}
+
+/// `stoneskip render`: the scene at `time` offscreen, written as an 8-bit RGBA PNG.
+pub fn render_to_png(preset: &Preset, out: &Path, width: u32, height: u32, time: f64) -> anyhow::Result<()> {
+    let img = render_image(preset, width, height, time)?;
+    img.save_with_format(out, image::ImageFormat::Png)
+        .map_err(RenderError::from)?;
+    Ok(())
 }

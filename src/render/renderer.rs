@@ -206,7 +206,7 @@ fn shader(device: &wgpu::Device, label: &str, body: &str) -> wgpu::ShaderModule 
 
 impl SceneRenderer {
     /// Builds the pipelines for targets of `config.color_format`.
-    pub fn new(device: &wgpu::Device, config: RendererConfig) -> Self {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, config: RendererConfig) -> Self {
         let encode_srgb = !config.color_format.is_srgb();
         let sample_count = if config.sample_count >= 4 { 4 } else { 1 };
         let config = RendererConfig {
@@ -329,7 +329,7 @@ impl SceneRenderer {
             module: &'a wgpu::ShaderModule,
             vs: &'a str,
             fs: &'a str,
-            buffers: &'a [wgpu::VertexBufferLayout<'a>],
+            buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
             cull: Option<wgpu::Face>,
             depth: Option<wgpu::DepthStencilState>,
             targets: &'a [Option<wgpu::ColorTargetState>],
@@ -405,11 +405,11 @@ impl SceneRenderer {
             targets: &opaque,
             ms,
         });
-        let far_buffers = [wgpu::VertexBufferLayout {
+        let far_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: 12,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-        }];
+        })];
         let water_far = make(Desc {
             label: "water_far",
             layout: &water_pl,
@@ -422,11 +422,11 @@ impl SceneRenderer {
             targets: &opaque,
             ms,
         });
-        let stone_buffers = [wgpu::VertexBufferLayout {
+        let stone_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<StoneVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
-        }];
+        })];
         let stone_pipe = make(Desc {
             label: "stone",
             layout: &scene_layout,
@@ -439,11 +439,11 @@ impl SceneRenderer {
             targets: &opaque,
             ms,
         });
-        let trail_buffers = [wgpu::VertexBufferLayout {
+        let trail_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<TrailInstance>() as u64,
             step_mode: wgpu::VertexStepMode::Instance,
             attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4],
-        }];
+        })];
         let trail_pipe = make(Desc {
             label: "trail",
             layout: &scene_layout,
@@ -456,11 +456,11 @@ impl SceneRenderer {
             targets: &blended,
             ms,
         });
-        let decal_buffers = [wgpu::VertexBufferLayout {
+        let decal_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<DecalInstance>() as u64,
             step_mode: wgpu::VertexStepMode::Instance,
             attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4, 3 => Float32x4],
-        }];
+        })];
         let decal_flat = make(Desc {
             label: "decal_flat",
             layout: &scene_layout,
@@ -487,7 +487,7 @@ impl SceneRenderer {
         });
         // A flat 1×1 prepared texture for scenes without a grid (the far plane still binds one).
         let flat_prep = device.create_texture_with_data(
-            &queue_less_init(),
+            queue,
             &wgpu::TextureDescriptor {
                 label: Some("flat_prep"),
                 size: wgpu::Extent3d {
@@ -505,7 +505,570 @@ impl SceneRenderer {
             wgpu::util::TextureDataOrder::LayerMajor,
             &[0u8; 8],
         );
-        let _ = flat_prep;
-        unreachable!()
+        let flat_view = flat_prep.create_view(&wgpu::TextureViewDescriptor::default());
+        let flat_water_bind = water_bind_group(device, &water_layout, &flat_view, &sampler);
+        Self {
+            config,
+            encode_srgb,
+            max_texture: device.limits().max_texture_dimension_2d.max(1),
+            globals,
+            globals_bind,
+            eta_layout,
+            water_layout,
+            sampler,
+            sky,
+            prep,
+            water_grid,
+            water_far,
+            stone_pipe,
+            trail_pipe,
+            decal_flat,
+            decal_solid,
+            flat_water_bind,
+            water: None,
+            stone: None,
+            far: None,
+            targets: None,
+            trail_buf: InstanceBuffer::new(device, "trail", 64 * 1024),
+            trail_key: None,
+            trail_count: 0,
+            decal_buf: InstanceBuffer::new(device, "decals", 16 * 1024),
+            scratch: Vec::new(),
+        }
     }
+
+    pub fn config(&self) -> RendererConfig {
+        self.config
+    }
+
+    /// Draws `scene` into `target` (a `target_size` texture of the configured format) inside
+    /// `viewport`, clearing the whole target to `clear` first. Records the water preparation pass and
+    /// the scene pass into `encoder`; the caller submits.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        target_size: (u32, u32),
+        viewport: Viewport,
+        scene: &Scene,
+        clear: wgpu::Color,
+    ) {
+        let target_size = (target_size.0.max(1), target_size.1.max(1));
+        self.ensure_targets(device, target_size);
+        self.upload_water(device, queue, encoder, scene);
+        self.upload_stone(device, scene);
+        self.upload_far(device);
+        let globals = self.globals_for(scene, viewport);
+        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
+        self.upload_trail(device, queue, scene, viewport);
+        let (flat_decals, solid_decals) = decals_for(scene);
+        let n_flat = flat_decals.len() as u32;
+        let n_solid = solid_decals.len() as u32;
+        let mut all = flat_decals;
+        all.extend(solid_decals);
+        self.decal_buf.write(device, queue, bytemuck::cast_slice(&all));
+
+        let Some(targets) = self.targets.as_ref() else {
+            return;
+        };
+        let (color_view, resolve) = match &targets.msaa {
+            Some(ms) => (ms, Some(target)),
+            None => (target, None),
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color_view,
+                depth_slice: None,
+                resolve_target: resolve,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &targets.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let vp = clamp_viewport(viewport, target_size);
+        pass.set_viewport(vp.x, vp.y, vp.width, vp.height, 0.0, 1.0);
+        pass.set_scissor_rect(vp.x as u32, vp.y as u32, vp.width as u32, vp.height as u32);
+        pass.set_bind_group(0, &self.globals_bind, &[]);
+
+        pass.set_pipeline(&self.sky);
+        pass.draw(0..3, 0..1);
+
+        let water_bind = match &self.water {
+            Some(w) if scene.water.is_some() => &w.water_bind,
+            _ => &self.flat_water_bind,
+        };
+        if let (Some(w), true) = (&self.water, scene.water.is_some()) {
+            pass.set_pipeline(&self.water_grid);
+            pass.set_bind_group(1, &w.water_bind, &[]);
+            pass.set_index_buffer(w.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..w.index_count, 0, 0..1);
+        }
+        if let Some(far) = &self.far {
+            pass.set_pipeline(&self.water_far);
+            pass.set_bind_group(1, water_bind, &[]);
+            pass.set_vertex_buffer(0, far.vertices.slice(..));
+            pass.set_index_buffer(far.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..far.count, 0, 0..1);
+        }
+        let decal_size = std::mem::size_of::<DecalInstance>() as u64;
+        if n_flat > 0 {
+            pass.set_pipeline(&self.decal_flat);
+            pass.set_vertex_buffer(0, self.decal_buf.buffer.slice(..n_flat as u64 * decal_size));
+            pass.draw(0..DECAL_VERTICES, 0..n_flat);
+        }
+        if let (Some(st), true) = (&self.stone, scene.stone.is_some()) {
+            pass.set_pipeline(&self.stone_pipe);
+            pass.set_vertex_buffer(0, st.vertices.slice(..));
+            pass.draw(0..st.count, 0..1);
+        }
+        if self.trail_count > 0 && scene.style.show_trail {
+            let size = std::mem::size_of::<TrailInstance>() as u64;
+            pass.set_pipeline(&self.trail_pipe);
+            pass.set_vertex_buffer(0, self.trail_buf.buffer.slice(..self.trail_count as u64 * size));
+            pass.draw(0..6, 0..self.trail_count);
+        }
+        if n_solid > 0 {
+            pass.set_pipeline(&self.decal_solid);
+            pass.set_vertex_buffer(
+                0,
+                self.decal_buf
+                    .buffer
+                    .slice(n_flat as u64 * decal_size..(n_flat + n_solid) as u64 * decal_size),
+            );
+            pass.draw(0..DECAL_VERTICES, 0..n_solid);
+        }
+    }
+
+    fn ensure_targets(&mut self, device: &wgpu::Device, size: (u32, u32)) {
+        if self.targets.as_ref().is_some_and(|t| t.size == size) {
+            return;
+        }
+        let extent = wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        };
+        let samples = self.config.sample_count;
+        let depth = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: extent,
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let msaa = (samples > 1).then(|| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some("msaa"),
+                    size: extent,
+                    mip_level_count: 1,
+                    sample_count: samples,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: self.config.color_format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    view_formats: &[],
+                })
+                .create_view(&wgpu::TextureViewDescriptor::default())
+        });
+        self.targets = Some(Targets {
+            size,
+            depth: depth.create_view(&wgpu::TextureViewDescriptor::default()),
+            msaa,
+        });
+    }
+
+    fn globals_for(&self, scene: &Scene, viewport: Viewport) -> Globals {
+        let cam = &scene.camera;
+        let clip_from_world = cam.clip_from_world(viewport.aspect());
+        let world_from_clip = clip_from_world.inverse();
+        let (world_from_stone, radius) = match &scene.stone {
+            Some(s) => (
+                Mat4::from_rotation_translation(s.orientation.as_quat(), s.position.as_vec3()),
+                s.radius as f32,
+            ),
+            None => (Mat4::IDENTITY, 0.05),
+        };
+        let eye = cam.eye();
+        let sun = sun_direction();
+        let (rect, mesh) = match (&self.water, &scene.water) {
+            (Some(w), Some(_)) => (w.rect, [w.mesh.0 as f32, w.mesh.1 as f32, scene.style.ripple_gain, 1.0]),
+            _ => ([0.0; 4], [2.0, 2.0, 0.0, 0.0]),
+        };
+        Globals {
+            clip_from_world: clip_from_world.to_cols_array(),
+            world_from_clip: world_from_clip.to_cols_array(),
+            world_from_stone: world_from_stone.to_cols_array(),
+            camera_pos: [eye.x, eye.y, eye.z, (scene.time % 10_000.0) as f32],
+            sun_dir: [sun.x, sun.y, sun.z, 1.0],
+            viewport: [
+                viewport.width.max(1.0),
+                viewport.height.max(1.0),
+                1.0 / viewport.width.max(1.0),
+                1.0 / viewport.height.max(1.0),
+            ],
+            water_rect: rect,
+            water_mesh: mesh,
+            options: [
+                if self.encode_srgb { 1.0 } else { 0.0 },
+                FOG_DISTANCE,
+                radius,
+                0.0,
+            ],
+        }
+    }
+
+    /// (Re)creates the water textures for the grid's size and uploads η when it changed, then
+    /// records the preparation pass (gradients on the GPU).
+    fn upload_water(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+    ) {
+        let Some(wv) = &scene.water else {
+            return;
+        };
+        if wv.nx < 2 || wv.ny < 2 || wv.heights.len() != wv.nx * wv.ny {
+            return;
+        }
+        let rect = [
+            wv.origin[0] as f32,
+            wv.origin[1] as f32,
+            (wv.nx as f64 * wv.cell) as f32,
+            (wv.ny as f64 * wv.cell) as f32,
+        ];
+        let rebuild = self
+            .water
+            .as_ref()
+            .map_or(true, |w| w.grid != (wv.nx, wv.ny));
+        if rebuild {
+            self.water = Some(self.make_water(device, wv.nx, wv.ny));
+        }
+        let Some(w) = self.water.as_mut() else {
+            return;
+        };
+        w.rect = rect;
+        if w.revision == Some(wv.revision) {
+            return;
+        }
+        w.revision = Some(wv.revision);
+        let (tw, th) = w.tex_size;
+        let data: &[f32] = if w.stride == 1 {
+            wv.heights
+        } else {
+            // A grid larger than the texture limit: every stride-th column (rare; huge lakes).
+            self.scratch.clear();
+            for ty in 0..th as usize {
+                let iy = (ty * w.stride).min(wv.ny - 1);
+                for tx in 0..tw as usize {
+                    let ix = (tx * w.stride).min(wv.nx - 1);
+                    self.scratch.push(wv.heights[iy * wv.nx + ix]);
+                }
+            }
+            &self.scratch
+        };
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &w.eta_tex,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(data),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * tw),
+                rows_per_image: Some(th),
+            },
+            wgpu::Extent3d {
+                width: tw,
+                height: th,
+                depth_or_array_layers: 1,
+            },
+        );
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("water_prep"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &w.prep_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.prep);
+        pass.set_bind_group(0, &self.globals_bind, &[]);
+        pass.set_bind_group(1, &w.prep_input, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    fn make_water(&self, device: &wgpu::Device, nx: usize, ny: usize) -> WaterGpu {
+        let max = self.max_texture as usize;
+        let stride = nx.max(ny).div_ceil(max).max(1);
+        let tw = nx.div_ceil(stride) as u32;
+        let th = ny.div_ceil(stride) as u32;
+        let extent = wgpu::Extent3d {
+            width: tw,
+            height: th,
+            depth_or_array_layers: 1,
+        };
+        let eta_tex = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("eta"),
+            size: extent,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let prep_tex = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("water_prep"),
+            size: extent,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: PREP_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let eta_view = eta_tex.create_view(&wgpu::TextureViewDescriptor::default());
+        let prep_view = prep_tex.create_view(&wgpu::TextureViewDescriptor::default());
+        let prep_input = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("eta"),
+            layout: &self.eta_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&eta_view),
+            }],
+        });
+        let water_bind = water_bind_group(device, &self.water_layout, &prep_view, &self.sampler);
+        let (mx, my) = water_mesh_size(nx, ny);
+        let idx = grid_indices(mx, my);
+        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("water_indices"),
+            contents: bytemuck::cast_slice(&idx),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        WaterGpu {
+            grid: (nx, ny),
+            stride,
+            tex_size: (tw, th),
+            eta_tex,
+            prep_view,
+            prep_input,
+            water_bind,
+            mesh: (mx, my),
+            indices,
+            index_count: idx.len() as u32,
+            revision: None,
+            rect: [0.0; 4],
+        }
+    }
+
+    fn upload_stone(&mut self, device: &wgpu::Device, scene: &Scene) {
+        let Some(s) = &scene.stone else {
+            return;
+        };
+        let key = mesh_key(s.mesh);
+        if self.stone.as_ref().is_some_and(|g| g.key == key) {
+            return;
+        }
+        let verts = stone_vertices(s.mesh);
+        if verts.is_empty() {
+            self.stone = None;
+            return;
+        }
+        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("stone"),
+            contents: bytemuck::cast_slice(&verts),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        self.stone = Some(StoneGpu {
+            key,
+            vertices,
+            count: verts.len() as u32,
+        });
+    }
+
+    fn upload_far(&mut self, device: &wgpu::Device) {
+        let rect = match &self.water {
+            Some(w) if w.revision.is_some() => w.rect,
+            _ => [0.0; 4],
+        };
+        if self.far.as_ref().is_some_and(|f| f.rect == rect) {
+            return;
+        }
+        let (v, i) = far_plane([rect[0], rect[1]], [rect[0] + rect[2], rect[1] + rect[3]]);
+        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("far_plane"),
+            contents: bytemuck::cast_slice(&v),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("far_plane_indices"),
+            contents: bytemuck::cast_slice(&i),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        self.far = Some(FarGpu {
+            rect,
+            vertices,
+            indices,
+            count: i.len() as u32,
+        });
+    }
+
+    fn upload_trail(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, vp: Viewport) {
+        let pts = scene.trail;
+        let width = (vp.height / 320.0).clamp(1.5, 4.0);
+        let last = pts.last().map_or([0; 3], |p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits() ^ width.to_bits()]);
+        let key = (pts.len(), last);
+        if self.trail_key == Some(key) {
+            return;
+        }
+        self.trail_key = Some(key);
+        let n = pts.len().saturating_sub(1);
+        let mut inst = Vec::with_capacity(n);
+        for (i, w) in pts.windows(2).enumerate() {
+            let (a, b) = (w[0], w[1]);
+            // Older parts of the path fade a little so the newest flight reads first.
+            let age = 1.0 - i as f32 / n.max(1) as f32;
+            let alpha = 0.9 - 0.35 * age;
+            inst.push(TrailInstance {
+                a: [a.x, a.y, a.z, width],
+                b: [b.x, b.y, b.z, width],
+                color: [1.0, 0.78, 0.25, alpha],
+            });
+        }
+        self.trail_count = inst.len() as u32;
+        self.trail_buf.write(device, queue, bytemuck::cast_slice(&inst));
+    }
+}
+
+fn water_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    view: &wgpu::TextureView,
+    sampler: &wgpu::Sampler,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("water"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            },
+        ],
+    })
+}
+
+fn clamp_viewport(vp: Viewport, size: (u32, u32)) -> Viewport {
+    let (w, h) = (size.0 as f32, size.1 as f32);
+    let x = vp.x.clamp(0.0, w - 1.0).floor();
+    let y = vp.y.clamp(0.0, h - 1.0).floor();
+    Viewport {
+        x,
+        y,
+        width: vp.width.clamp(1.0, w - x).floor().max(1.0),
+        height: vp.height.clamp(1.0, h - y).floor().max(1.0),
+    }
+}
+
+/// Decal instances: (flat ones on the water — markers, shadow, foam rings; solid ones — crowns).
+fn decals_for(scene: &Scene) -> (Vec<DecalInstance>, Vec<DecalInstance>) {
+    let mut flat = Vec::new();
+    let mut solid = Vec::new();
+    let r = scene.stone.as_ref().map_or(0.05, |s| s.radius as f32).max(0.01);
+    let lift = 0.003;
+    if let Some(s) = &scene.stone {
+        // Shadow: where the sun's ray through the centre of mass meets the water.
+        let p = s.position.as_vec3();
+        let sun = sun_direction();
+        let h = p.z.max(0.0);
+        let c = p - sun * (h / sun.z.max(0.1));
+        let alpha = 0.5 * (-h / 0.8).exp();
+        if alpha > 0.01 && p.z > -0.05 {
+            flat.push(DecalInstance {
+                center: [c.x, c.y, lift, 0.0],
+                shape: [r * (1.15 + 0.3 * h), lift, lift, 0.0],
+                fade: [1.0, 0.0, 0.0, 0.0],
+                color: [0.0, 0.02, 0.03, alpha],
+            });
+        }
+    }
+    if scene.style.show_markers {
+        for m in &scene.markers {
+            let color = if m.open {
+                [1.0, 1.0, 1.0, 0.9]
+            } else if m.skip {
+                [0.55, 1.0, 0.35, 0.85]
+            } else {
+                [1.0, 0.3, 0.2, 0.9]
+            };
+            flat.push(DecalInstance {
+                center: [m.x as f32, m.y as f32, lift, r * 1.5],
+                shape: [r * 1.5 + 0.012 + 0.15 * r, lift, lift, 0.0],
+                fade: [1.0, 1.0, 0.0, 0.0],
+                color,
+            });
+        }
+    }
+    if scene.style.show_splashes {
+        for s in &scene.splashes {
+            let age = s.age as f32;
+            let life = (1.0 - age / SPLASH_DURATION as f32).clamp(0.0, 1.0);
+            let (x, y) = (s.x as f32, s.y as f32);
+            // Foam ring spreading from the touch point.
+            let ring = r * (1.2 + 8.0 * age);
+            flat.push(DecalInstance {
+                center: [x, y, lift, ring],
+                shape: [ring + r * (0.4 + 1.5 * age), lift, lift, 0.0],
+                fade: [1.0, 0.0, 0.0, 0.0],
+                color: [0.95, 0.98, 1.0, 0.8 * life * life],
+            });
+            // Crown of spray: rises and falls within 0.4 s.
+            let phase = (age / 0.4).clamp(0.0, 1.0);
+            let height = (0.012 * s.speed as f32).clamp(0.02, 0.2) * (std::f32::consts::PI * phase).sin();
+            if height > 1e-3 {
+                solid.push(DecalInstance {
+                    center: [x, y, 0.0, r * 0.9],
+                    shape: [r * (1.4 + 3.0 * age), 0.0, height, 0.0],
+                    fade: [0.75, 0.05, 0.0, 0.0],
+                    color: [0.88, 0.94, 1.0, life],
+                });
+            }
+        }
+    }
+    (flat, solid)
 }

@@ -189,6 +189,8 @@ pub struct Trail {
     points: Vec<Vec3>,
     last_kept: Option<Vec3>,
     last_contact: bool,
+    /// The last point is the newest position, not yet kept.
+    moving_end: bool,
 }
 
 impl Trail {
@@ -221,16 +223,15 @@ impl Trail {
         }
         let spacing = Self::SPACING * (1 + self.points.len() / Self::MAX_POINTS) as f32;
         let far = self.last_kept.map_or(true, |q| q.distance(p) >= spacing);
-        if far || sample.in_contact != self.last_contact {
-            self.points.push(p);
+        let keep = far || sample.in_contact != self.last_contact;
+        match (self.moving_end, self.points.last_mut()) {
+            // The moving end (newest position) becomes a kept point, or moves on.
+            (true, Some(last)) => *last = p,
+            _ => self.points.push(p),
+        }
+        self.moving_end = !keep;
+        if keep {
             self.last_kept = Some(p);
-        } else if let Some(last) = self.points.last_mut() {
-            // Keep the newest position as the moving end of the trail.
-            if self.points.len() > 1 {
-                *last = p;
-            } else {
-                self.points.push(p);
-            }
         }
         self.last_contact = sample.in_contact;
     }

@@ -19,7 +19,8 @@
 //!
 //! [`simulate`] integrates it: exact ballistic flight, contact entry solved from the parabola, fixed-step
 //! RK4 in the water, exit (or sinking) located inside the last step by root finding on the RK4 step length,
-//! so contact times and exit velocities converge at fourth order (≈1e-9 relative at the default 1 µs).
+//! so contact times and exit velocities converge at fourth order (VC-1: ~1e-12 relative at the default
+//! 1 µs, 4e-10 at 25 µs).
 //! [`min_speed`] bisects the smallest impact speed that skips. The closed forms (eqs. 4–14: ω₀, t_c, d_max,
 //! V_c(β), β_max, μ, the invariant I = V_x + μ(V_z + g t), distance, duration, ℓ and N_c) are methods of
 //! [`Plate2d`]. The 3D per-triangle solver is validated against this module.

@@ -1,0 +1,49 @@
+//! Whole throws without water: the cost of the stone's physics alone. Prints, for each preset,
+//! how many times faster than real time a throw runs (simulated seconds / wall seconds) and the
+//! force evaluations it takes.
+
+use std::hint::black_box;
+use std::path::Path;
+use std::time::Instant;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use stoneskip::sim::params::Preset;
+use stoneskip::sim::simulate;
+
+fn preset(name: &str) -> Preset {
+    let mut p = stoneskip::preset::load(Path::new(&format!("assets/presets/{name}.ron")))
+        .expect("shipped preset");
+    p.water.enabled = false;
+    p
+}
+
+fn throws(c: &mut Criterion) {
+    let mut group = c.benchmark_group("throw");
+    group.sample_size(20);
+    for name in ["default", "magic_angle", "bocquet_plate", "record_throw", "clanet_disc"] {
+        let p = preset(name);
+        // The real-time ratio, measured once outside criterion so it can be printed.
+        let reps = 5;
+        let start = Instant::now();
+        let mut s = simulate(&p).expect("runs");
+        for _ in 1..reps {
+            s = simulate(&p).expect("runs");
+        }
+        let wall = start.elapsed().as_secs_f64() / reps as f64;
+        println!(
+            "{name}: {:.3} s simulated in {:.2} ms: {:.0}x real time; {} skips, {} steps, {} force evaluations ({:.2} us each incl. stepping)",
+            s.final_time,
+            wall * 1e3,
+            s.final_time / wall,
+            s.skips,
+            s.steps,
+            s.force_evals,
+            wall * 1e6 / s.force_evals.max(1) as f64
+        );
+        group.bench_function(name, |b| b.iter(|| simulate(black_box(&p))));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, throws);
+criterion_main!(benches);

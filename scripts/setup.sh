@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs what a fresh Debian machine lacks to build, test and run stoneskip: Mesa's software
+# Vulkan/GL drivers (the app and the offscreen renderer run on them without a GPU), Xvfb for the
+# window smoke test, fonts and pkg-config. Idempotent; skips apt when everything is present.
+set -euo pipefail
+pkgs=(mesa-vulkan-drivers libvulkan1 libegl1 libgl1-mesa-dri xvfb xauth xdotool imagemagick
+      libfontconfig1-dev pkg-config fonts-dejavu-core)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+command -v cargo >/dev/null || { echo "setup: cargo not found: install Rust (rustup)" >&2; exit 1; }
+rustup component add rustfmt clippy >/dev/null 2>&1 || true

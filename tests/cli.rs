@@ -1,0 +1,134 @@
+//! The command-line contract (design.md §7): `simulate` prints a summary, JSON or CSV; bad input
+//! exits non-zero with one clear message naming the file, line and field; the same preset gives
+//! identical JSON twice.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn stoneskip(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stoneskip"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+/// One line on stderr, starting with `stoneskip: error:`, containing every `needle`.
+fn assert_clear_error(out: &Output, needles: &[&str]) {
+    assert!(!out.status.success(), "must fail");
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one message, got: {err}");
+    assert!(lines[0].starts_with("stoneskip: error:"), "{err}");
+    for n in needles {
+        assert!(lines[0].contains(n), "`{n}` missing from: {err}");
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+const QUICK: &str = "physics: (max_time: 2.0), water: (enabled: false)";
+
+#[test]
+fn bad_input_gets_one_clear_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Malformed RON: line and column of the problem.
+    let f = write(d, "malformed.ron", "(\n  name: \"x\",\n  stone: (mass: 0.1,,),\n)");
+    assert_clear_error(&stoneskip(&["simulate", "--preset", &f]), &["malformed.ron:3:"]);
+    // An unknown field: named, with what was expected.
+    let f = write(d, "unknown.ron", "(\n  stone: (\n    weight: 0.1,\n  ),\n)");
+    assert_clear_error(
+        &stoneskip(&["simulate", "--preset", &f]),
+        &["unknown.ron:3:", "weight", "expected one of", "mass"],
+    );
+    // A negative mass: file, line, field and the expected range.
+    let f = write(d, "negative.ron", "(\n  name: \"n\",\n  stone: (\n    mass: -0.1,\n  ),\n)");
+    assert_clear_error(
+        &stoneskip(&["simulate", "--preset", &f]),
+        &["negative.ron:4:", "stone.mass", "expected a positive number"],
+    );
+    // NaN.
+    let f = write(d, "nan.ron", "(launch: (spin: NaN))");
+    assert_clear_error(&stoneskip(&["simulate", "--preset", &f]), &["nan.ron:1:", "launch.spin", "finite"]);
+    // A zero dt.
+    let f = write(d, "dt.ron", "(\n  physics: (\n    dt: 0.0,\n  ),\n)");
+    assert_clear_error(&stoneskip(&["simulate", "--preset", &f]), &["dt.ron:3:", "physics.dt"]);
+    // A missing file.
+    let missing = d.join("missing.ron");
+    assert_clear_error(
+        &stoneskip(&["simulate", "--preset", &missing.to_string_lossy()]),
+        &["missing.ron", "cannot read"],
+    );
+}
+
+#[test]
+fn json_is_complete_and_deterministic() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "p.ron", &format!("({QUICK})"));
+    let a = stoneskip(&["simulate", "--preset", &f, "--json"]);
+    let b = stoneskip(&["simulate", "--preset", &f, "--json"]);
+    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
+    assert_eq!(a.stdout, b.stdout, "identical JSON twice");
+    let v: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
+    assert_eq!(v["schema"], 1);
+    for key in ["name", "outcome", "skips", "distance", "final_time", "steps", "force_evals", "contacts", "water"] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert!(v["water"].is_null());
+    let c = &v["contacts"][0];
+    for key in ["t_start", "t_end", "skip", "x", "y", "v_in", "v_out", "attitude_in", "attitude_out", "beta_in"] {
+        assert!(c.get(key).is_some(), "contact missing {key}");
+    }
+    assert!(["sank", "timeout", "left_domain"].contains(&v["outcome"].as_str().unwrap()));
+}
+
+#[test]
+fn csv_has_header_and_dense_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "p.ron", &format!("(physics: (dt: 0.02, integrator: Paper, max_time: 2.0), water: (enabled: false))"));
+    let csv = dir.path().join("t.csv");
+    let out = stoneskip(&["simulate", "--preset", &f, "--csv", &csv.to_string_lossy()]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,x,y,z,vx,vy,vz,qw,qx,qy,qz,wx,wy,wz,in_contact,wetted_area,fx,fy,fz"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 10);
+    for w in rows.windows(2) {
+        assert_eq!(w[1].len(), 19);
+        let gap = w[1][0] - w[0][0];
+        // At least every 1/240 s of flight (with a large dt, flight rows are interpolated).
+        if w[0][14] == 0.0 && w[1][14] == 0.0 {
+            assert!(gap <= 1.0 / 240.0 + 1e-9, "gap {gap}");
+        }
+        assert!(gap >= 0.0);
+    }
+}
+
+#[test]
+fn text_summary_has_contact_table() {
+    let out = stoneskip(&["simulate", "--preset", "assets/presets/magic_angle.ron"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("outcome sank"), "{text}");
+    assert!(text.contains("t_start"), "{text}");
+}
+
+#[test]
+fn every_shipped_preset_loads_and_runs() {
+    for entry in std::fs::read_dir("assets/presets").unwrap() {
+        let path = entry.unwrap().path();
+        let p = stoneskip::preset::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!p.name.is_empty());
+    }
+}
