@@ -20,7 +20,13 @@ fn preset(name: &str) -> Preset {
 fn throws(c: &mut Criterion) {
     let mut group = c.benchmark_group("throw");
     group.sample_size(20);
-    for name in ["default", "magic_angle", "bocquet_plate", "record_throw", "clanet_disc"] {
+    for name in [
+        "default",
+        "magic_angle",
+        "bocquet_plate",
+        "record_throw",
+        "clanet_disc",
+    ] {
         let p = preset(name);
         // The real-time ratio, measured once outside criterion so it can be printed.
         let reps = 5;

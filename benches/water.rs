@@ -115,7 +115,9 @@ fn benches(c: &mut Criterion) {
     let mut triad = Triad::new();
     for &t in &counts {
         let p = pool(t);
-        g.bench_function(format!("{t}thr"), |b| b.iter(|| p.install(|| triad.run(3.0))));
+        g.bench_function(format!("{t}thr"), |b| {
+            b.iter(|| p.install(|| triad.run(3.0)))
+        });
     }
     g.finish();
 
@@ -130,7 +132,9 @@ fn benches(c: &mut Criterion) {
         g.throughput(Throughput::Elements((w.nx() * w.ny()) as u64));
         for &t in &counts {
             let p = pool(t);
-            g.bench_function(format!("{name}/{t}thr"), |b| b.iter(|| p.install(|| w.step())));
+            g.bench_function(format!("{name}/{t}thr"), |b| {
+                b.iter(|| p.install(|| w.step()))
+            });
         }
     }
     g.finish();

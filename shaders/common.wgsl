@@ -26,8 +26,8 @@ const PI: f32 = 3.14159265;
 // Sky radiance along a unit direction, without the sun disc.
 fn sky_base(dir: vec3<f32>) -> vec3<f32> {
     let up = clamp(dir.z, -1.0, 1.0);
-    let zenith = vec3<f32>(0.10, 0.26, 0.62);
-    let horizon = vec3<f32>(0.62, 0.74, 0.86);
+    let zenith = vec3<f32>(0.07, 0.20, 0.55);
+    let horizon = vec3<f32>(0.50, 0.64, 0.82);
     var c = mix(horizon, zenith, pow(clamp(up, 0.0, 1.0), 0.5));
     if (up < 0.0) {
         c = mix(horizon, vec3<f32>(0.36, 0.44, 0.52), clamp(-up * 3.0, 0.0, 1.0));

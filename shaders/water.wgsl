@@ -89,7 +89,7 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     // Sun highlight: a sharp glint and a broad sheen.
     let h = normalize(sun + v);
     let ndh = max(dot(n, h), 0.0);
-    let spec = pow(ndh, 900.0) * 14.0 + pow(ndh, 90.0) * 0.35;
+    let spec = pow(ndh, 1200.0) * 12.0 + pow(ndh, 120.0) * 0.12;
     c += vec3<f32>(1.0, 0.92, 0.78) * spec * g.sun_dir.w * (0.3 + fresnel);
 
     // Haze towards the horizon.

@@ -15,7 +15,11 @@ use stoneskip::sim::params::Preset;
 use stoneskip::sim::{Simulation, StepSample};
 
 #[derive(Parser)]
-#[command(name = "stoneskip", version, about = "A physically based stone-skipping simulator")]
+#[command(
+    name = "stoneskip",
+    version,
+    about = "A physically based stone-skipping simulator"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -92,7 +96,9 @@ fn run() -> Result<()> {
             stoneskip::render::render_to_png(&p, &out, width, height, time)
                 .with_context(|| format!("rendering {}", out.display()))
         }
-        Some(Command::Study { name, out, quick }) => stoneskip::study::run_study(&name, &out, quick),
+        Some(Command::Study { name, out, quick }) => {
+            stoneskip::study::run_study(&name, &out, quick)
+        }
     }
 }
 
@@ -107,7 +113,8 @@ fn simulate(path: &Path, json: bool, csv: Option<&Path>) -> Result<()> {
     }
     let mut writer = match csv {
         Some(p) => {
-            let f = std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
+            let f =
+                std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
             let mut w = CsvWriter::new(
                 std::io::BufWriter::new(f),
                 sim.stone().clone(),

@@ -44,14 +44,15 @@ pub fn load(path: &Path) -> Result<Preset, PresetError> {
 
 /// Parses and validates preset text; `path` names it in messages.
 pub fn parse(text: &str, path: &Path) -> Result<Preset, PresetError> {
-    let preset: Preset = ron::Options::default()
-        .from_str(text)
-        .map_err(|e| PresetError::Syntax {
-            path: path.to_owned(),
-            line: e.span.start.line,
-            col: e.span.start.col,
-            message: explain(&e.code),
-        })?;
+    let preset: Preset =
+        ron::Options::default()
+            .from_str(text)
+            .map_err(|e| PresetError::Syntax {
+                path: path.to_owned(),
+                line: e.span.start.line,
+                col: e.span.start.col,
+                message: explain(&e.code),
+            })?;
     preset.validate().map_err(|error| PresetError::Invalid {
         path: path.to_owned(),
         line: locate_field(text, &error.field),

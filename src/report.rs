@@ -84,7 +84,12 @@ pub struct CsvWriter<W: Write> {
 }
 
 impl<W: Write> CsvWriter<W> {
-    pub fn new(mut out: W, stone: Stone, rotation: Rotation, gravity: f64) -> std::io::Result<Self> {
+    pub fn new(
+        mut out: W,
+        stone: Stone,
+        rotation: Rotation,
+        gravity: f64,
+    ) -> std::io::Result<Self> {
         writeln!(out, "{CSV_HEADER}")?;
         Ok(Self {
             out,
@@ -109,7 +114,8 @@ impl<W: Write> CsvWriter<W> {
                 let n = (gap / CSV_FLIGHT_INTERVAL).ceil() as usize;
                 for k in 1..n {
                     let t = gap * k as f64 / n as f64;
-                    let st: BodyState = flight(&self.stone, self.rotation, self.gravity, &prev.state, t);
+                    let st: BodyState =
+                        flight(&self.stone, self.rotation, self.gravity, &prev.state, t);
                     self.row(&StepSample {
                         time: prev.time + t,
                         state: st,

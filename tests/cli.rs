@@ -38,8 +38,15 @@ fn bad_input_gets_one_clear_message() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     // Malformed RON: line and column of the problem.
-    let f = write(d, "malformed.ron", "(\n  name: \"x\",\n  stone: (mass: 0.1,,),\n)");
-    assert_clear_error(&stoneskip(&["simulate", "--preset", &f]), &["malformed.ron:3:"]);
+    let f = write(
+        d,
+        "malformed.ron",
+        "(\n  name: \"x\",\n  stone: (mass: 0.1,,),\n)",
+    );
+    assert_clear_error(
+        &stoneskip(&["simulate", "--preset", &f]),
+        &["malformed.ron:3:"],
+    );
     // An unknown field: named, with what was expected.
     let f = write(d, "unknown.ron", "(\n  stone: (\n    weight: 0.1,\n  ),\n)");
     assert_clear_error(
@@ -47,17 +54,31 @@ fn bad_input_gets_one_clear_message() {
         &["unknown.ron:3:", "weight", "expected one of", "mass"],
     );
     // A negative mass: file, line, field and the expected range.
-    let f = write(d, "negative.ron", "(\n  name: \"n\",\n  stone: (\n    mass: -0.1,\n  ),\n)");
+    let f = write(
+        d,
+        "negative.ron",
+        "(\n  name: \"n\",\n  stone: (\n    mass: -0.1,\n  ),\n)",
+    );
     assert_clear_error(
         &stoneskip(&["simulate", "--preset", &f]),
-        &["negative.ron:4:", "stone.mass", "expected a positive number"],
+        &[
+            "negative.ron:4:",
+            "stone.mass",
+            "expected a positive number",
+        ],
     );
     // NaN.
     let f = write(d, "nan.ron", "(launch: (spin: NaN))");
-    assert_clear_error(&stoneskip(&["simulate", "--preset", &f]), &["nan.ron:1:", "launch.spin", "finite"]);
+    assert_clear_error(
+        &stoneskip(&["simulate", "--preset", &f]),
+        &["nan.ron:1:", "launch.spin", "finite"],
+    );
     // A zero dt.
     let f = write(d, "dt.ron", "(\n  physics: (\n    dt: 0.0,\n  ),\n)");
-    assert_clear_error(&stoneskip(&["simulate", "--preset", &f]), &["dt.ron:3:", "physics.dt"]);
+    assert_clear_error(
+        &stoneskip(&["simulate", "--preset", &f]),
+        &["dt.ron:3:", "physics.dt"],
+    );
     // A missing file.
     let missing = d.join("missing.ron");
     assert_clear_error(
@@ -76,12 +97,33 @@ fn json_is_complete_and_deterministic() {
     assert_eq!(a.stdout, b.stdout, "identical JSON twice");
     let v: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
     assert_eq!(v["schema"], 1);
-    for key in ["name", "outcome", "skips", "distance", "final_time", "steps", "force_evals", "contacts", "water"] {
+    for key in [
+        "name",
+        "outcome",
+        "skips",
+        "distance",
+        "final_time",
+        "steps",
+        "force_evals",
+        "contacts",
+        "water",
+    ] {
         assert!(v.get(key).is_some(), "missing {key}");
     }
     assert!(v["water"].is_null());
     let c = &v["contacts"][0];
-    for key in ["t_start", "t_end", "skip", "x", "y", "v_in", "v_out", "attitude_in", "attitude_out", "beta_in"] {
+    for key in [
+        "t_start",
+        "t_end",
+        "skip",
+        "x",
+        "y",
+        "v_in",
+        "v_out",
+        "attitude_in",
+        "attitude_out",
+        "beta_in",
+    ] {
         assert!(c.get(key).is_some(), "contact missing {key}");
     }
     assert!(["sank", "timeout", "left_domain"].contains(&v["outcome"].as_str().unwrap()));
@@ -90,7 +132,13 @@ fn json_is_complete_and_deterministic() {
 #[test]
 fn csv_has_header_and_dense_rows() {
     let dir = tempfile::tempdir().unwrap();
-    let f = write(dir.path(), "p.ron", &format!("(physics: (dt: 0.02, integrator: Paper, max_time: 2.0), water: (enabled: false))"));
+    let f = write(
+        dir.path(),
+        "p.ron",
+        &format!(
+            "(physics: (dt: 0.02, integrator: Paper, max_time: 2.0), water: (enabled: false))"
+        ),
+    );
     let csv = dir.path().join("t.csv");
     let out = stoneskip(&["simulate", "--preset", &f, "--csv", &csv.to_string_lossy()]);
     assert!(out.status.success());

@@ -58,9 +58,19 @@ fn plate_converges_to_bocquet_2d() {
         assert_eq!(s3.outcome, Some(Outcome::Sank));
 
         let plate = Plate2d::bocquet_reference().with_ventilated(true);
-        let r2 = reference::simulate(&plate, State2d::impact(speed, beta), &Integration::with_dt(2e-6))
-            .unwrap();
-        assert_eq!(s3.skips, r2.skips(), "skip count: 3D {} vs 2D {}", s3.skips, r2.skips());
+        let r2 = reference::simulate(
+            &plate,
+            State2d::impact(speed, beta),
+            &Integration::with_dt(2e-6),
+        )
+        .unwrap();
+        assert_eq!(
+            s3.skips,
+            r2.skips(),
+            "skip count: 3D {} vs 2D {}",
+            s3.skips,
+            r2.skips()
+        );
         assert!(s3.skips >= 5, "a good Bocquet throw skips many times");
         assert!(
             rel(s3.distance, r2.distance) < 0.01,
@@ -70,10 +80,27 @@ fn plate_converges_to_bocquet_2d() {
         );
         for (c3, c2) in s3.contacts.iter().zip(&r2.contacts).filter(|(c, _)| c.skip) {
             let d3 = c3.t_end - c3.t_start;
-            assert!(rel(d3, c2.duration()) < 0.01, "duration {d3} vs {}", c2.duration());
-            assert!(rel(c3.v_out[0], c2.v_out[0]) < 0.01, "vx out {:?} vs {:?}", c3.v_out, c2.v_out);
-            assert!(rel(c3.v_out[2], c2.v_out[1]) < 0.01, "vz out {:?} vs {:?}", c3.v_out, c2.v_out);
-            assert!(c3.v_out[1].abs() < 1e-9, "no sideways force on a symmetric plate");
+            assert!(
+                rel(d3, c2.duration()) < 0.01,
+                "duration {d3} vs {}",
+                c2.duration()
+            );
+            assert!(
+                rel(c3.v_out[0], c2.v_out[0]) < 0.01,
+                "vx out {:?} vs {:?}",
+                c3.v_out,
+                c2.v_out
+            );
+            assert!(
+                rel(c3.v_out[2], c2.v_out[1]) < 0.01,
+                "vz out {:?} vs {:?}",
+                c3.v_out,
+                c2.v_out
+            );
+            assert!(
+                c3.v_out[1].abs() < 1e-9,
+                "no sideways force on a symmetric plate"
+            );
         }
     }
 }
@@ -84,7 +111,13 @@ fn plate_converges_to_bocquet_2d() {
 fn plate_keeps_bocquet_invariant() {
     let plate = Plate2d::bocquet_reference();
     let mu = plate.mu().unwrap();
-    let preset = at_impact(&bocquet_plate_preset(), 12.0, (0.3_f64 / 12.0).atan(), IMPACT_CLEARANCE).unwrap();
+    let preset = at_impact(
+        &bocquet_plate_preset(),
+        12.0,
+        (0.3_f64 / 12.0).atan(),
+        IMPACT_CLEARANCE,
+    )
+    .unwrap();
     let mut sim = Simulation::new(&preset).unwrap();
     let s = sim.run(&mut |_| {}, &|| false);
     let invariants: Vec<f64> = s
@@ -142,16 +175,20 @@ fn min_speed_curve(law: ForceLaw, tilts: &[f64]) -> Vec<f64> {
 fn magic_angle_rosellini() {
     let tilts = [10.0, 15.0, 20.0, 25.0, 30.0];
     let u = min_speed_curve(ForceLaw::Rosellini, &tilts);
-    let (imin, umin) = u
-        .iter()
-        .enumerate()
-        .fold((0, f64::INFINITY), |acc, (i, &v)| if v < acc.1 { (i, v) } else { acc });
+    let (imin, umin) =
+        u.iter().enumerate().fold(
+            (0, f64::INFINITY),
+            |acc, (i, &v)| if v < acc.1 { (i, v) } else { acc },
+        );
     assert!(
         tilts[imin] == 15.0 || tilts[imin] == 20.0,
         "minimum at {}°: {u:?}",
         tilts[imin]
     );
-    assert!(rel(umin, 2.27) < 0.03, "minimal speed {umin} m/s vs 2.27: {u:?}");
+    assert!(
+        rel(umin, 2.27) < 0.03,
+        "minimal speed {umin} m/s vs 2.27: {u:?}"
+    );
     // The published curve (VC-8): 2.42, 2.26, 2.27, 2.37, 2.54 m/s.
     for (got, want) in u.iter().zip([2.42, 2.26, 2.27, 2.37, 2.54]) {
         assert!(rel(*got, want) < 0.03, "{u:?}");
@@ -165,7 +202,11 @@ fn magic_angle_moves_under_paper_law() {
     let tilts = [15.0, 20.0, 25.0, 30.0, 40.0];
     let u = min_speed_curve(ForceLaw::Paper, &tilts);
     let imin = (0..u.len()).min_by(|&a, &b| u[a].total_cmp(&u[b])).unwrap();
-    assert!(tilts[imin] == 25.0 || tilts[imin] == 30.0, "minimum at {}°: {u:?}", tilts[imin]);
+    assert!(
+        tilts[imin] == 25.0 || tilts[imin] == 30.0,
+        "minimum at {}°: {u:?}",
+        tilts[imin]
+    );
     for (got, want) in u.iter().zip([3.52, 3.22, 3.11, 3.13]) {
         assert!(rel(*got, want) < 0.03, "{u:?}");
     }
@@ -181,11 +222,20 @@ fn energy(mass: f64, g: f64, pos: DVec3, vel: DVec3) -> f64 {
 #[test]
 fn energy_between_and_across_contacts() {
     for integrator in [Integrator::Adaptive, Integrator::Rk4] {
-        for (tilt, speed, beta) in [(20.0, 8.0, 10.0), (10.0, 12.0, 3.0), (30.0, 4.0, 25.0), (15.0, 20.0, 5.0)] {
+        for (tilt, speed, beta) in [
+            (20.0, 8.0, 10.0),
+            (10.0, 12.0, 3.0),
+            (30.0, 4.0, 25.0),
+            (15.0, 20.0, 5.0),
+        ] {
             let mut base = Preset::default();
             base.launch.attitude.tilt_deg = tilt;
             base.physics.integrator = integrator;
-            base.physics.dt = if integrator == Integrator::Rk4 { 2e-5 } else { 5e-4 };
+            base.physics.dt = if integrator == Integrator::Rk4 {
+                2e-5
+            } else {
+                5e-4
+            };
             base.physics.max_time = 4.0;
             base.water.enabled = false;
             let p = at_impact(&base, speed, f64::to_radians(beta), 0.05).unwrap();
@@ -196,17 +246,35 @@ fn energy_between_and_across_contacts() {
             sim.run(&mut |s| samples.push(*s), &|| false);
             let e: Vec<(bool, f64)> = samples
                 .iter()
-                .map(|s| (s.in_contact, energy(m, g, s.state.position, s.state.velocity)))
+                .map(|s| {
+                    (
+                        s.in_contact,
+                        energy(m, g, s.state.position, s.state.velocity),
+                    )
+                })
                 .collect();
-            let e0 = energy(m, g, DVec3::from_array(p.launch.position), DVec3::from_array(p.launch.velocity));
+            let e0 = energy(
+                m,
+                g,
+                DVec3::from_array(p.launch.position),
+                DVec3::from_array(p.launch.velocity),
+            );
             // In flight (both ends of the step out of the water): conserved.
             let mut prev = (false, e0);
             for &(wet, en) in &e {
                 if !wet && !prev.0 {
-                    assert!(rel(en, prev.1) < 1e-9, "{integrator:?} flight energy {en} after {}", prev.1);
+                    assert!(
+                        rel(en, prev.1) < 1e-9,
+                        "{integrator:?} flight energy {en} after {}",
+                        prev.1
+                    );
                 }
                 // Never increases, in contact or out, beyond round-off.
-                assert!(en <= prev.1 * (1.0 + 1e-12) + 1e-12, "{integrator:?} energy rose {} -> {en}", prev.1);
+                assert!(
+                    en <= prev.1 * (1.0 + 1e-12) + 1e-12,
+                    "{integrator:?} energy rose {} -> {en}",
+                    prev.1
+                );
                 prev = (wet, en);
             }
         }

@@ -12,7 +12,13 @@ fn finite_summary(s: &Summary) {
     assert!(s.outcome.is_some(), "every run ends with an outcome");
     assert!(s.distance.is_finite() && s.final_time.is_finite());
     for c in &s.contacts {
-        for v in c.v_in.iter().chain(&c.v_out).chain(&c.attitude_in).chain(&c.attitude_out) {
+        for v in c
+            .v_in
+            .iter()
+            .chain(&c.v_out)
+            .chain(&c.attitude_in)
+            .chain(&c.attitude_out)
+        {
             assert!(v.is_finite(), "{c:?}");
         }
         assert!(c.t_end >= c.t_start && c.beta_in.is_finite());
@@ -38,10 +44,19 @@ fn run(p: &Preset) -> Summary {
 
 fn shape() -> impl Strategy<Value = Shape> {
     prop_oneof![
-        (0.01..0.15f64, 0.05..0.5f64).prop_map(|(r, f)| Shape::Disk { radius: r, thickness: (2.0 * r * f).max(0.001) }),
-        (0.01..0.15f64, 0.05..0.5f64).prop_map(|(r, f)| Shape::Lens { radius: r, thickness: (2.0 * r * f).max(0.001) }),
-        (0.02..0.3f64, 0.02..0.3f64, 0.001..0.03f64)
-            .prop_map(|(l, w, t)| Shape::Plate { length: l, width: w, thickness: t }),
+        (0.01..0.15f64, 0.05..0.5f64).prop_map(|(r, f)| Shape::Disk {
+            radius: r,
+            thickness: (2.0 * r * f).max(0.001)
+        }),
+        (0.01..0.15f64, 0.05..0.5f64).prop_map(|(r, f)| Shape::Lens {
+            radius: r,
+            thickness: (2.0 * r * f).max(0.001)
+        }),
+        (0.02..0.3f64, 0.02..0.3f64, 0.001..0.03f64).prop_map(|(l, w, t)| Shape::Plate {
+            length: l,
+            width: w,
+            thickness: t
+        }),
     ]
 }
 
@@ -49,24 +64,52 @@ fn preset() -> impl Strategy<Value = Preset> {
     (
         (shape(), 0.005..2.0f64, 8u32..40),
         (0.0..2.0f64, 0.1..40.0f64, -89.0..60.0f64),
-        (-90.0..90.0f64, -60.0..60.0f64, -180.0..180.0f64, -400.0..400.0f64),
+        (
+            -90.0..90.0f64,
+            -60.0..60.0f64,
+            -180.0..180.0f64,
+            -400.0..400.0f64,
+        ),
         (0usize..3, 0usize..4, any::<bool>(), any::<bool>()),
         (1e-4..5e-3f64, 0.0..3.0f64, 0.0..0.05f64),
         (any::<bool>(), any::<bool>(), any::<bool>()),
     )
         .prop_map(
-            |((shape, mass, segments), (z, speed, elev), (tilt, bank, heading, spin), (law, integ, vent, free), (dt, cl, cf), (water, wavy, paper_clamp))| {
+            |(
+                (shape, mass, segments),
+                (z, speed, elev),
+                (tilt, bank, heading, spin),
+                (law, integ, vent, free),
+                (dt, cl, cf),
+                (water, wavy, paper_clamp),
+            )| {
                 let mut p = Preset::default();
-                p.stone = StoneParams { shape, mass, segments };
+                p.stone = StoneParams {
+                    shape,
+                    mass,
+                    segments,
+                };
                 let (e, h) = (elev.to_radians(), heading.to_radians());
                 p.launch.position = [0.0, 0.0, z];
-                p.launch.velocity = [speed * e.cos() * h.cos(), speed * e.cos() * h.sin(), speed * e.sin()];
-                p.launch.attitude = Attitude { tilt_deg: tilt, bank_deg: bank, heading_deg: heading };
+                p.launch.velocity = [
+                    speed * e.cos() * h.cos(),
+                    speed * e.cos() * h.sin(),
+                    speed * e.sin(),
+                ];
+                p.launch.attitude = Attitude {
+                    tilt_deg: tilt,
+                    bank_deg: bank,
+                    heading_deg: heading,
+                };
                 p.launch.spin = spin;
                 p.physics.force_law = ForceLaw::ALL[law];
                 p.physics.integrator = Integrator::ALL[integ];
                 p.physics.ventilated = vent;
-                p.physics.rotation = if free { Rotation::Free } else { Rotation::Locked };
+                p.physics.rotation = if free {
+                    Rotation::Free
+                } else {
+                    Rotation::Locked
+                };
                 p.physics.dt = dt;
                 p.physics.lift_coefficient = Some(cl);
                 p.physics.friction_coefficient = Some(cf);
@@ -76,7 +119,11 @@ fn preset() -> impl Strategy<Value = Preset> {
                 p.water.size = [6.0, 3.0];
                 p.water.cell = 0.1;
                 p.water.origin = Some([-3.0, -1.5]);
-                p.water.limiter = if paper_clamp { Limiter::PaperClamp } else { Limiter::MassConserving };
+                p.water.limiter = if paper_clamp {
+                    Limiter::PaperClamp
+                } else {
+                    Limiter::MassConserving
+                };
                 p
             },
         )

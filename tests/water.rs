@@ -149,7 +149,10 @@ fn t2_volume_is_conserved_with_splashes_and_dry_cells() {
         let mut rng = Rng(2);
         for s in 0..steps {
             if s % (steps / 10) == steps / 20 {
-                let (ix, iy) = ((rng.next() * 40.0) as usize, (rng.next() * n as f64) as usize);
+                let (ix, iy) = (
+                    (rng.next() * 40.0) as usize,
+                    (rng.next() * n as f64) as usize,
+                );
                 w.add_volume(ix, iy, 0.3);
                 ledger += 0.3;
             }
@@ -220,7 +223,10 @@ fn t3_thin_sheet_positive_and_conservative_but_paper_clamp_creates_water() {
     let gain = (c.volume() - v0) / v0;
     println!("T3 paper clamp: ΔV/V = {gain:.3e}, min depth {min_c:.2e}");
     assert!(min_c >= 0.0);
-    assert!(gain > 1.0, "the clamp should have created water, ΔV/V = {gain}");
+    assert!(
+        gain > 1.0,
+        "the clamp should have created water, ΔV/V = {gain}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -434,7 +440,11 @@ fn automatic_step_is_under_the_courant_limit() {
             ..p
         };
         let w = WaterGrid::new(&p, [0.0, 0.0], G, 1000.0).expect("valid");
-        assert!(w.courant() <= 0.7 * w.courant_limit() + 1e-12, "r = {}", w.courant());
+        assert!(
+            w.courant() <= 0.7 * w.courant_limit() + 1e-12,
+            "r = {}",
+            w.courant()
+        );
         assert!(w.step_dt() <= 1.0 / 60.0 + 1e-15);
     }
 }
@@ -632,7 +642,8 @@ fn deposited_impulse_makes_a_ring_at_the_wave_speed() {
     let mut total = 0.0;
     for iy in 85..116 {
         for ix in 85..116 {
-            let r2 = ((ix as f64 - 100.0).powi(2) + (iy as f64 - 100.0).powi(2)) / (2.0 * sigma * sigma);
+            let r2 =
+                ((ix as f64 - 100.0).powi(2) + (iy as f64 - 100.0).powi(2)) / (2.0 * sigma * sigma);
             let j = 1e4 * (-r2).exp();
             // World coordinates of column centres (origin 0, cell 1).
             w.deposit_impulse(ix as f64 + 0.5, iy as f64 + 0.5, j);
@@ -770,7 +781,8 @@ fn swell_travels_along_its_heading() {
                 let ph = k * (co * x + s * y);
                 let travelling = 0.02 * (ph - k * c * t).sin();
                 err = err.max((w.eta(ix, iy) - travelling).abs());
-                standing = standing.max((w.eta(ix, iy) - 0.02 * ph.sin() * (k * c * t).cos()).abs());
+                standing =
+                    standing.max((w.eta(ix, iy) - 0.02 * ph.sin() * (k * c * t).cos()).abs());
             }
         }
         println!("swell heading {heading}: max |η − travelling| = {err:.2e} (vs standing {standing:.2e})");

@@ -38,7 +38,11 @@ pub struct Camera {
 
 impl Default for Camera {
     fn default() -> Self {
-        Self::looking(Vec3::new(-DEFAULT_BACK, 0.0, DEFAULT_HEIGHT), 0.0, DEFAULT_PITCH)
+        Self::looking(
+            Vec3::new(-DEFAULT_BACK, 0.0, DEFAULT_HEIGHT),
+            0.0,
+            DEFAULT_PITCH,
+        )
     }
 }
 
@@ -89,7 +93,11 @@ impl Camera {
 
     /// Reversed-depth infinite perspective for a viewport of `aspect` = width / height.
     pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
-        let aspect = if aspect.is_finite() && aspect > 1e-3 { aspect } else { 1.0 };
+        let aspect = if aspect.is_finite() && aspect > 1e-3 {
+            aspect
+        } else {
+            1.0
+        };
         let fov = self.fov_y.clamp(0.05, 3.0);
         glam::camera::rh::proj::directx::perspective_infinite_reverse(fov, aspect, NEAR)
     }
@@ -145,7 +153,9 @@ impl Camera {
     pub fn side_view(lo: Vec3, hi: Vec3, heading: f32, aspect: f32) -> Self {
         let centre = 0.5 * (lo + hi);
         let along = Vec3::new(heading.cos(), heading.sin(), 0.0);
-        let extent = ((hi - lo) * Vec3::new(1.0, 1.0, 0.0)).dot(along.abs()).max(0.5);
+        let extent = ((hi - lo) * Vec3::new(1.0, 1.0, 0.0))
+            .dot(along.abs())
+            .max(0.5);
         let height = (hi.z - lo.z).max(0.2);
         let fov = FOV_Y;
         let fit_w = 0.5 * extent / ((0.5 * fov).tan() * aspect.max(0.2));
@@ -183,7 +193,11 @@ pub fn throw_heading(preset: &Preset) -> f32 {
 }
 
 fn direction(yaw: f32, pitch: f32) -> Vec3 {
-    Vec3::new(pitch.cos() * yaw.cos(), pitch.cos() * yaw.sin(), pitch.sin())
+    Vec3::new(
+        pitch.cos() * yaw.cos(),
+        pitch.cos() * yaw.sin(),
+        pitch.sin(),
+    )
 }
 
 fn wrap_angle(a: f32) -> f32 {

@@ -18,7 +18,8 @@ pub struct Gpu {
 impl Gpu {
     /// A device without a window (offscreen rendering).
     pub fn headless() -> Result<Self, RenderError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = request_adapter(&instance, None)?;
         let (device, queue) = request_device(&adapter)?;
         Ok(Self {
@@ -70,7 +71,9 @@ fn backend_names(b: wgpu::Backends) -> String {
 pub fn no_adapter_error(detail: &str) -> RenderError {
     let tried = backend_names(backends_tried());
     RenderError::NoAdapter {
-        tried: format!("{tried} (high-performance, then the fallback adapter); wgpu said: {detail}"),
+        tried: format!(
+            "{tried} (high-performance, then the fallback adapter); wgpu said: {detail}"
+        ),
     }
 }
 

@@ -46,7 +46,11 @@ pub fn stone_vertices(mesh: &Mesh) -> Vec<StoneVertex> {
                 }
             }
             let normal = sum.try_normalize().unwrap_or(fn_t);
-            let p = mesh.positions.get(v as usize).copied().unwrap_or(DVec3::ZERO);
+            let p = mesh
+                .positions
+                .get(v as usize)
+                .copied()
+                .unwrap_or(DVec3::ZERO);
             out.push(StoneVertex {
                 position: p.as_vec3().to_array(),
                 normal: normal.as_vec3().to_array(),
@@ -116,7 +120,12 @@ pub fn far_plane(lo: [f32; 2], hi: [f32; 2]) -> (Vec<[f32; 3]>, Vec<u32>) {
         [cx + r, cy + r],
         [cx - r, cy + r],
     ];
-    let inner = [[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]];
+    let inner = [
+        [lo[0], lo[1]],
+        [hi[0], lo[1]],
+        [hi[0], hi[1]],
+        [lo[0], hi[1]],
+    ];
     let mut v: Vec<[f32; 3]> = outer.iter().map(|p| [p[0], p[1], 0.0]).collect();
     v.extend(inner.iter().map(|p| [p[0], p[1], 0.0]));
     let mut idx = Vec::with_capacity(24);

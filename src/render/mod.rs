@@ -76,7 +76,11 @@ impl SimulatedScene {
         }
         let mut heights = WaterHeights::new();
         heights.refresh(&sim, 0);
-        Ok(Self { sim, trail, heights })
+        Ok(Self {
+            sim,
+            trail,
+            heights,
+        })
     }
 
     /// The scene with the app's default camera.
@@ -87,7 +91,12 @@ impl SimulatedScene {
 }
 
 /// Renders the preset's scene at simulated time `time` with the default camera.
-pub fn render_image(preset: &Preset, width: u32, height: u32, time: f64) -> Result<image::RgbaImage, RenderError> {
+pub fn render_image(
+    preset: &Preset,
+    width: u32,
+    height: u32,
+    time: f64,
+) -> Result<image::RgbaImage, RenderError> {
     if width == 0 || height == 0 || width > offscreen::MAX_SIDE || height > offscreen::MAX_SIDE {
         return Err(RenderError::Size { width, height });
     }
@@ -97,7 +106,13 @@ pub fn render_image(preset: &Preset, width: u32, height: u32, time: f64) -> Resu
 }
 
 /// `stoneskip render`: the scene at `time` offscreen, written as an 8-bit RGBA PNG.
-pub fn render_to_png(preset: &Preset, out: &Path, width: u32, height: u32, time: f64) -> anyhow::Result<()> {
+pub fn render_to_png(
+    preset: &Preset,
+    out: &Path,
+    width: u32,
+    height: u32,
+    time: f64,
+) -> anyhow::Result<()> {
     let img = render_image(preset, width, height, time)?;
     img.save_with_format(out, image::ImageFormat::Png)
         .map_err(RenderError::from)?;

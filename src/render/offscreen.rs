@@ -22,7 +22,10 @@ impl Offscreen {
     /// Finds an adapter and builds the renderer (4× MSAA where the adapter offers it).
     pub fn new() -> Result<Self, RenderError> {
         let gpu = Gpu::headless()?;
-        let flags = gpu.adapter.get_texture_format_features(OFFSCREEN_FORMAT).flags;
+        let flags = gpu
+            .adapter
+            .get_texture_format_features(OFFSCREEN_FORMAT)
+            .flags;
         let depth_flags = gpu
             .adapter
             .get_texture_format_features(super::renderer::DEPTH_FORMAT)
@@ -57,7 +60,12 @@ impl Offscreen {
     }
 
     /// Draws `scene` at `width` × `height` and returns the picture.
-    pub fn render(&mut self, scene: &Scene, width: u32, height: u32) -> Result<image::RgbaImage, RenderError> {
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+    ) -> Result<image::RgbaImage, RenderError> {
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
             return Err(RenderError::Size { width, height });
         }

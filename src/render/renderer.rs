@@ -9,7 +9,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
-use super::mesh::{far_plane, grid_indices, mesh_key, stone_vertices, water_mesh_size, StoneVertex};
+use super::mesh::{
+    far_plane, grid_indices, mesh_key, stone_vertices, water_mesh_size, StoneVertex,
+};
 use super::scene::{Scene, SPLASH_DURATION};
 
 /// Depth buffer format (reversed: cleared to 0, nearer is greater).
@@ -18,10 +20,10 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const PREP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Direction towards the sun: 25° above the horizon, ahead of the default camera and a little to
 /// its left, so the glitter of the ripples lies in the default view.
-pub const SUN_AZIMUTH_DEG: f32 = 18.0;
+pub const SUN_AZIMUTH_DEG: f32 = 32.0;
 pub const SUN_ELEVATION_DEG: f32 = 24.0;
 /// Haze distance (m).
-pub const FOG_DISTANCE: f32 = 450.0;
+pub const FOG_DISTANCE: f32 = 700.0;
 
 /// A rectangle of the target in pixels (the 3D view's part of the window).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -294,10 +296,18 @@ impl SceneRenderer {
         let prep_pl = layout("prep", &[Some(&globals_layout), Some(&eta_layout)]);
 
         let sky_sh = shader(device, "sky", include_str!("../../shaders/sky.wgsl"));
-        let prep_sh = shader(device, "water_prep", include_str!("../../shaders/water_prep.wgsl"));
+        let prep_sh = shader(
+            device,
+            "water_prep",
+            include_str!("../../shaders/water_prep.wgsl"),
+        );
         let water_sh = shader(device, "water", include_str!("../../shaders/water.wgsl"));
         let stone_sh = shader(device, "stone", include_str!("../../shaders/stone.wgsl"));
-        let overlay_sh = shader(device, "overlay", include_str!("../../shaders/overlay.wgsl"));
+        let overlay_sh = shader(
+            device,
+            "overlay",
+            include_str!("../../shaders/overlay.wgsl"),
+        );
 
         let ms = wgpu::MultisampleState {
             count: sample_count,
@@ -569,7 +579,8 @@ impl SceneRenderer {
         let n_solid = solid_decals.len() as u32;
         let mut all = flat_decals;
         all.extend(solid_decals);
-        self.decal_buf.write(device, queue, bytemuck::cast_slice(&all));
+        self.decal_buf
+            .write(device, queue, bytemuck::cast_slice(&all));
 
         let Some(targets) = self.targets.as_ref() else {
             return;
@@ -640,7 +651,12 @@ impl SceneRenderer {
         if self.trail_count > 0 && scene.style.show_trail {
             let size = std::mem::size_of::<TrailInstance>() as u64;
             pass.set_pipeline(&self.trail_pipe);
-            pass.set_vertex_buffer(0, self.trail_buf.buffer.slice(..self.trail_count as u64 * size));
+            pass.set_vertex_buffer(
+                0,
+                self.trail_buf
+                    .buffer
+                    .slice(..self.trail_count as u64 * size),
+            );
             pass.draw(0..6, 0..self.trail_count);
         }
         if n_solid > 0 {
@@ -710,7 +726,15 @@ impl SceneRenderer {
         let eye = cam.eye();
         let sun = sun_direction();
         let (rect, mesh) = match (&self.water, &scene.water) {
-            (Some(w), Some(_)) => (w.rect, [w.mesh.0 as f32, w.mesh.1 as f32, scene.style.ripple_gain, 1.0]),
+            (Some(w), Some(_)) => (
+                w.rect,
+                [
+                    w.mesh.0 as f32,
+                    w.mesh.1 as f32,
+                    scene.style.ripple_gain,
+                    1.0,
+                ],
+            ),
             _ => ([0.0; 4], [2.0, 2.0, 0.0, 0.0]),
         };
         Globals {
@@ -944,10 +968,22 @@ impl SceneRenderer {
         });
     }
 
-    fn upload_trail(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, vp: Viewport) {
+    fn upload_trail(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        vp: Viewport,
+    ) {
         let pts = scene.trail;
         let width = (vp.height / 320.0).clamp(1.5, 4.0);
-        let last = pts.last().map_or([0; 3], |p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits() ^ width.to_bits()]);
+        let last = pts.last().map_or([0; 3], |p| {
+            [
+                p.x.to_bits(),
+                p.y.to_bits(),
+                p.z.to_bits() ^ width.to_bits(),
+            ]
+        });
         let key = (pts.len(), last);
         if self.trail_key == Some(key) {
             return;
@@ -967,7 +1003,8 @@ impl SceneRenderer {
             });
         }
         self.trail_count = inst.len() as u32;
-        self.trail_buf.write(device, queue, bytemuck::cast_slice(&inst));
+        self.trail_buf
+            .write(device, queue, bytemuck::cast_slice(&inst));
     }
 }
 
@@ -1009,7 +1046,11 @@ fn clamp_viewport(vp: Viewport, size: (u32, u32)) -> Viewport {
 fn decals_for(scene: &Scene) -> (Vec<DecalInstance>, Vec<DecalInstance>) {
     let mut flat = Vec::new();
     let mut solid = Vec::new();
-    let r = scene.stone.as_ref().map_or(0.05, |s| s.radius as f32).max(0.01);
+    let r = scene
+        .stone
+        .as_ref()
+        .map_or(0.05, |s| s.radius as f32)
+        .max(0.01);
     let lift = 0.003;
     if let Some(s) = &scene.stone {
         // Shadow: where the sun's ray through the centre of mass meets the water.
@@ -1059,7 +1100,8 @@ fn decals_for(scene: &Scene) -> (Vec<DecalInstance>, Vec<DecalInstance>) {
             });
             // Crown of spray: rises and falls within 0.4 s.
             let phase = (age / 0.4).clamp(0.0, 1.0);
-            let height = (0.012 * s.speed as f32).clamp(0.02, 0.2) * (std::f32::consts::PI * phase).sin();
+            let height =
+                (0.012 * s.speed as f32).clamp(0.02, 0.2) * (std::f32::consts::PI * phase).sin();
             if height > 1e-3 {
                 solid.push(DecalInstance {
                     center: [x, y, 0.0, r * 0.9],

@@ -3,6 +3,8 @@
 //! and offscreen, so a picture test checks the picture the app shows. Building it never steps the
 //! physics; the caller's ticks do.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use glam::{DQuat, DVec3, Vec3};
 
 use super::camera::Camera;
@@ -142,7 +144,11 @@ impl<'a> Scene<'a> {
     /// Axis-aligned box around the trail, the markers and the stone (for "frame all").
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut pts: Vec<Vec3> = self.trail.to_vec();
-        pts.extend(self.markers.iter().map(|m| Vec3::new(m.x as f32, m.y as f32, 0.0)));
+        pts.extend(
+            self.markers
+                .iter()
+                .map(|m| Vec3::new(m.x as f32, m.y as f32, 0.0)),
+        );
         if let Some(s) = &self.stone {
             pts.push(s.position.as_vec3());
         }
@@ -241,6 +247,8 @@ impl Trail {
     }
 }
 
+static NEXT_REVISION: AtomicU64 = AtomicU64::new(1);
+
 /// The water heights copied out of the grid for the renderer; refreshed only when the water has
 /// stepped (the copy is the CPU's whole per-frame water work).
 #[derive(Debug, Clone, Default)]
@@ -269,7 +277,8 @@ impl WaterHeights {
         }
         w.eta_f32(&mut self.data);
         self.seen = Some(key);
-        self.revision = self.revision.wrapping_add(1);
+        // Unique across every WaterHeights of the process, so a renderer never mistakes one for another.
+        self.revision = NEXT_REVISION.fetch_add(1, Ordering::Relaxed);
         true
     }
 

@@ -123,7 +123,12 @@ mod tests {
         let p = tri();
         let full = clip_triangle(p, heights(p, 5.0)).unwrap().area;
         let w = clip_triangle(p, heights(p, 0.0)).unwrap();
-        assert!((w.area - full * 0.25).abs() < 1e-14, "{} vs {}", w.area, full * 0.25);
+        assert!(
+            (w.area - full * 0.25).abs() < 1e-14,
+            "{} vs {}",
+            w.area,
+            full * 0.25
+        );
         // Centroid of the corner triangle (p0, mid01, mid02).
         let c = (p[0] + (p[0] + p[1]) * 0.5 + (p[0] + p[2]) * 0.5) / 3.0;
         assert!((w.centroid - c).length() < 1e-15);
@@ -171,6 +176,9 @@ mod tests {
         let (a, _) = polygon_area_centroid(&p);
         assert!((a - exact).abs() / exact < 1e-12, "cross product {a}");
         let h = heron_area(p);
-        assert!((h - exact).abs() / exact > 1e-3, "Heron {h} should be badly off on a sliver");
+        assert!(
+            (h - exact).abs() / exact > 1e-3,
+            "Heron {h} should be badly off on a sliver"
+        );
     }
 }

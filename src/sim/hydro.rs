@@ -50,7 +50,10 @@ pub fn face_force(hp: &HydroParams, normal: DVec3, area: f64, v: DVec3, speed: f
     let vt = v - normal * vn;
     let vt_len = vt.length();
     let (pressure, friction) = match hp.law {
-        ForceLaw::Paper => (hp.lift * half_rho_s * vn * vn, hp.friction * half_rho_s * vt_len * vt_len),
+        ForceLaw::Paper => (
+            hp.lift * half_rho_s * vn * vn,
+            hp.friction * half_rho_s * vt_len * vt_len,
+        ),
         ForceLaw::Bocquet => (
             hp.lift * half_rho_s * speed * speed,
             hp.friction * half_rho_s * speed * speed,
@@ -120,7 +123,12 @@ pub struct Scratch {
 }
 
 /// Signed height of the stone's lowest vertex above the surface, and the world vertex positions.
-pub fn lowest_clearance(stone: &Stone, position: DVec3, orientation: DQuat, surface: &dyn Surface) -> f64 {
+pub fn lowest_clearance(
+    stone: &Stone,
+    position: DVec3,
+    orientation: DQuat,
+    surface: &dyn Surface,
+) -> f64 {
     let rot = glam::DMat3::from_quat(orientation);
     if position.z - stone.bounding_radius > surface.max_height() {
         return position.z - stone.bounding_radius - surface.max_height();
@@ -138,7 +146,12 @@ pub fn lowest_clearance(stone: &Stone, position: DVec3, orientation: DQuat, surf
 
 /// True when every vertex of the faces whose outward normal points down is below the surface: the
 /// full immersion of the underside at which the stone loses its lift (design.md §4 "sank").
-pub fn underside_submerged(stone: &Stone, position: DVec3, orientation: DQuat, surface: &dyn Surface) -> bool {
+pub fn underside_submerged(
+    stone: &Stone,
+    position: DVec3,
+    orientation: DQuat,
+    surface: &dyn Surface,
+) -> bool {
     let rot = glam::DMat3::from_quat(orientation);
     let mut any_down = false;
     for (t, tri) in stone.mesh.triangles.iter().enumerate() {
@@ -214,7 +227,9 @@ pub fn evaluate(
         sum.force += f;
         sum.torque += r.cross(f);
         if record {
-            scratch.loads.push((patch.centroid.x, patch.centroid.y, f.z));
+            scratch
+                .loads
+                .push((patch.centroid.x, patch.centroid.y, f.z));
         }
     }
     sum
@@ -257,7 +272,10 @@ mod tests {
         let normal = DVec3::new(0.0, 0.0, 1.0);
         let v = DVec3::new(3.0, 0.0, -1.0);
         for law in ForceLaw::ALL {
-            assert_eq!(face_force(&hp(law, true), normal, 0.01, v, v.length()), DVec3::ZERO);
+            assert_eq!(
+                face_force(&hp(law, true), normal, 0.01, v, v.length()),
+                DVec3::ZERO
+            );
             // Not ventilated: the paper as printed pushes on every wetted face.
             if law != ForceLaw::Rosellini {
                 assert!(face_force(&hp(law, false), normal, 0.01, v, v.length()).z < 0.0);

@@ -115,9 +115,21 @@ impl Dynamics<'_> {
     }
 
     /// The state's derivative and the water's forces on it.
-    pub fn derivative(&self, s: &BodyState, scratch: &mut Scratch, record: bool) -> (Deriv, ForceSum) {
+    pub fn derivative(
+        &self,
+        s: &BodyState,
+        scratch: &mut Scratch,
+        record: bool,
+    ) -> (Deriv, ForceSum) {
         let pose = self.pose(s);
-        let f = evaluate(self.stone, &self.hydro, &pose, self.surface, scratch, record);
+        let f = evaluate(
+            self.stone,
+            &self.hydro,
+            &pose,
+            self.surface,
+            scratch,
+            record,
+        );
         let mut d = Deriv {
             dx: s.velocity,
             dv: f.force / self.stone.mass - DVec3::Z * self.gravity,
@@ -207,7 +219,12 @@ pub fn torque_free(stone: &Stone, q0: DQuat, l: DVec3, t: f64) -> DQuat {
 
 /// One step of the paper's scheme (eqs. 30–38): a from the start, v' = v + a h,
 /// x' = x + (v + v')/2 h; the attitude (if free) turns with the starting ω.
-pub fn step_paper(dy: &Dynamics, s: &BodyState, h: f64, scratch: &mut Scratch) -> (BodyState, ForceSum) {
+pub fn step_paper(
+    dy: &Dynamics,
+    s: &BodyState,
+    h: f64,
+    scratch: &mut Scratch,
+) -> (BodyState, ForceSum) {
     let (k, f) = dy.derivative(s, scratch, true);
     let v1 = s.velocity + k.dv * h;
     let mut out = *s;
@@ -242,7 +259,12 @@ pub fn step_symplectic_euler(
 }
 
 /// Classical RK4. Returns the new state and the forces at the start.
-pub fn step_rk4(dy: &Dynamics, s: &BodyState, h: f64, scratch: &mut Scratch) -> (BodyState, ForceSum) {
+pub fn step_rk4(
+    dy: &Dynamics,
+    s: &BodyState,
+    h: f64,
+    scratch: &mut Scratch,
+) -> (BodyState, ForceSum) {
     let (k1, f) = dy.derivative(s, scratch, true);
     let (k2, _) = dy.derivative(&s.combine(0.5 * h, &[(1.0, &k1)]), scratch, false);
     let (k3, _) = dy.derivative(&s.combine(0.5 * h, &[(1.0, &k2)]), scratch, false);

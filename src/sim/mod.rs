@@ -19,8 +19,13 @@ pub mod water;
 use glam::{DMat3, DQuat, DVec3};
 use serde::Serialize;
 
-use hydro::{lowest_clearance, underside_submerged, FlatSurface, ForceSum, HydroParams, Scratch, Surface};
-use integrate::{flight, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv, Dynamics, ErrorScales};
+use hydro::{
+    lowest_clearance, underside_submerged, FlatSurface, ForceSum, HydroParams, Scratch, Surface,
+};
+use integrate::{
+    flight, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv, Dynamics,
+    ErrorScales,
+};
 use params::{Integrator, ParamError, Physics, Preset};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
 use water::WaterGrid;
@@ -249,7 +254,11 @@ impl Simulation {
     }
     /// Angular velocity (world, rad/s); zero with a locked attitude.
     pub fn angular_velocity(&self) -> DVec3 {
-        integrate::angular_velocity(&self.stone, self.preset.physics.rotation, &self.motion.state)
+        integrate::angular_velocity(
+            &self.stone,
+            self.preset.physics.rotation,
+            &self.motion.state,
+        )
     }
     /// Position and orientation of the stone's body frame in the world.
     pub fn world_from_stone(&self) -> (DVec3, DQuat) {
@@ -337,7 +346,11 @@ impl Simulation {
 
     /// Runs until the stone's outcome is decided, calling `on_step` after every accepted step.
     /// `cancel` is polled once per tick; a cancelled run ends as it stands (no outcome).
-    pub fn run(&mut self, on_step: &mut dyn FnMut(&StepSample), cancel: &dyn Fn() -> bool) -> Summary {
+    pub fn run(
+        &mut self,
+        on_step: &mut dyn FnMut(&StepSample),
+        cancel: &dyn Fn() -> bool,
+    ) -> Summary {
         while !self.is_finished() && !cancel() {
             self.tick_with(on_step);
         }
@@ -394,7 +407,11 @@ impl Simulation {
     }
 
     fn surface(&self) -> SurfaceRef<'_> {
-        SurfaceRef::new(&self.water, self.preset.water.wavy_contact, self.water_max_eta)
+        SurfaceRef::new(
+            &self.water,
+            self.preset.water.wavy_contact,
+            self.water_max_eta,
+        )
     }
 
     fn clearance(&self, s: &BodyState) -> f64 {
@@ -451,8 +468,11 @@ impl Simulation {
             let t0 = self.motion.time;
             let h_max = t_end - t0;
             let (next, h, force) = {
-                let surface =
-                    SurfaceRef::new(&self.water, self.preset.water.wavy_contact, self.water_max_eta);
+                let surface = SurfaceRef::new(
+                    &self.water,
+                    self.preset.water.wavy_contact,
+                    self.water_max_eta,
+                );
                 let dy = Dynamics {
                     stone: &self.stone,
                     hydro: self.hydro,
@@ -464,18 +484,29 @@ impl Simulation {
                 match physics.integrator {
                     Integrator::Adaptive => adaptive_step(&dy, m, h_max, physics.tolerance),
                     fixed => {
-                        let (s, f) = match fixed {
-                            Integrator::Paper => step_paper(&dy, &prev, h_max, &mut m.scratch),
-                            Integrator::SymplecticEuler => {
-                                step_symplectic_euler(&dy, &prev, h_max, &mut m.scratch)
-                            }
-                            _ => step_rk4(&dy, &prev, h_max, &mut m.scratch),
+                        // Every scheme flies exactly (eqs. 4–8 are exact for a parabola; the
+                        // torque-free rotation has a closed form): they differ in contact only.
+                        let clear = |st: &BodyState| {
+                            lowest_clearance(&self.stone, st.position, st.orientation, &surface)
                         };
-                        m.force_evals += if fixed == Integrator::Rk4 { 4 } else { 1 };
-                        for &(x, y, fz) in &m.scratch.loads {
-                            m.pending.push((x, y, fz * h_max));
+                        let end =
+                            flight(&self.stone, physics.rotation, physics.gravity, &prev, h_max);
+                        if clear(&prev) > 0.0 && clear(&end) > 0.0 {
+                            (end, h_max, ForceSum::default())
+                        } else {
+                            let (s, f) = match fixed {
+                                Integrator::Paper => step_paper(&dy, &prev, h_max, &mut m.scratch),
+                                Integrator::SymplecticEuler => {
+                                    step_symplectic_euler(&dy, &prev, h_max, &mut m.scratch)
+                                }
+                                _ => step_rk4(&dy, &prev, h_max, &mut m.scratch),
+                            };
+                            m.force_evals += if fixed == Integrator::Rk4 { 4 } else { 1 };
+                            for &(x, y, fz) in &m.scratch.loads {
+                                m.pending.push((x, y, fz * h_max));
+                            }
+                            (s, h_max, f)
                         }
-                        (s, h_max, f)
                     }
                 }
             };
@@ -551,7 +582,13 @@ impl Simulation {
         let physics = &self.preset.physics;
         let sign = if forward { 1.0 } else { -1.0 };
         let wet = |s: f64| {
-            let st = flight(&self.stone, physics.rotation, physics.gravity, from, sign * s);
+            let st = flight(
+                &self.stone,
+                physics.rotation,
+                physics.gravity,
+                from,
+                sign * s,
+            );
             self.clearance(&st) <= 0.0
         };
         // Forwards: dry at 0, wet at h. Backwards from a dry state: dry at 0, wet at h.
@@ -576,9 +613,15 @@ impl Simulation {
 
 /// One Adaptive step: exact flight to `h_max` or to the first touch; error-controlled
 /// Dormand–Prince steps in contact. Returns the new state, the step taken and the forces there.
-fn adaptive_step(dy: &Dynamics, m: &mut Motion, h_max: f64, tol: f64) -> (BodyState, f64, ForceSum) {
+fn adaptive_step(
+    dy: &Dynamics,
+    m: &mut Motion,
+    h_max: f64,
+    tol: f64,
+) -> (BodyState, f64, ForceSum) {
     let s = m.state;
-    let clear = |st: &BodyState| lowest_clearance(dy.stone, st.position, st.orientation, dy.surface);
+    let clear =
+        |st: &BodyState| lowest_clearance(dy.stone, st.position, st.orientation, dy.surface);
     if !m.in_contact && clear(&s) > 0.0 {
         m.fsal = None;
         let end = flight(dy.stone, dy.rotation, dy.gravity, &s, h_max);

@@ -389,8 +389,9 @@ where
 
 /// Largest launch speed accepted (m/s): well past any human throw (record arm speed ≈ 22 m/s).
 pub const MAX_SPEED: f64 = 100.0;
-/// Largest spin accepted (rad/s): ≈ 80 rev/s, past the 65 rev/s of Clanet's launcher.
-pub const MAX_SPIN: f64 = 500.0;
+/// Largest spin accepted (rad/s): ≈ 160 rev/s, past the 65 rev/s of Clanet's launcher and the
+/// ~50 rev/s of the best human throws.
+pub const MAX_SPIN: f64 = 1000.0;
 /// Tick bounds (s).
 pub const DT_RANGE: (f64, f64) = (1e-6, 0.05);
 /// Most columns a water grid may have (memory and real-time bound).
@@ -428,7 +429,10 @@ impl Preset {
         if self.version != 1 {
             return Err(ParamError::new(
                 "version",
-                format!("expected 1 (the only schema version), found {}", self.version),
+                format!(
+                    "expected 1 (the only schema version), found {}",
+                    self.version
+                ),
             ));
         }
         self.stone.validate()?;
@@ -510,8 +514,8 @@ impl Launch {
                 ),
             ));
         }
-        let speed = (self.velocity[0].powi(2) + self.velocity[1].powi(2) + self.velocity[2].powi(2))
-            .sqrt();
+        let speed =
+            (self.velocity[0].powi(2) + self.velocity[1].powi(2) + self.velocity[2].powi(2)).sqrt();
         if speed > MAX_SPEED {
             return Err(ParamError::new(
                 "launch.velocity",
@@ -547,7 +551,12 @@ impl Launch {
 impl Physics {
     pub fn validate(&self) -> Result<(), ParamError> {
         check_range("physics.gravity", self.gravity, 0.0, 100.0, "m/s²")?;
-        check_positive("physics.water_density", self.water_density, 20_000.0, "kg/m³")?;
+        check_positive(
+            "physics.water_density",
+            self.water_density,
+            20_000.0,
+            "kg/m³",
+        )?;
         if let Some(cl) = self.lift_coefficient {
             check_range("physics.lift_coefficient", cl, 0.0, 10.0, "")?;
         }
@@ -592,9 +601,21 @@ impl WaterParams {
             }
         }
         if let Some(s) = self.swell {
-            check_range("water.swell.amplitude", s.amplitude, 0.0, 0.5 * self.depth, "m (half the depth at most)")?;
+            check_range(
+                "water.swell.amplitude",
+                s.amplitude,
+                0.0,
+                0.5 * self.depth,
+                "m (half the depth at most)",
+            )?;
             check_positive("water.swell.wavelength", s.wavelength, 1000.0, "m")?;
-            check_range("water.swell.heading_deg", s.heading_deg, -360.0, 360.0, "degrees")?;
+            check_range(
+                "water.swell.heading_deg",
+                s.heading_deg,
+                -360.0,
+                360.0,
+                "degrees",
+            )?;
         }
         Ok(())
     }

@@ -67,7 +67,13 @@ pub fn first_contact(preset: &Preset) -> Result<Option<FirstContact>, SimError> 
 /// Smallest impact speed in [`lo`, `hi`] m/s at impact angle `beta` whose first contact is a skip,
 /// to relative precision `rel_tol`, by bisection (skipping is taken as monotone in speed). `None`
 /// when even `hi` does not skip; `Some(lo)` when `lo` already skips.
-pub fn min_speed(base: &Preset, beta: f64, lo: f64, hi: f64, rel_tol: f64) -> Result<Option<f64>, SimError> {
+pub fn min_speed(
+    base: &Preset,
+    beta: f64,
+    lo: f64,
+    hi: f64,
+    rel_tol: f64,
+) -> Result<Option<f64>, SimError> {
     let skips = |u: f64| -> Result<bool, SimError> {
         let p = at_impact(base, u, beta, IMPACT_CLEARANCE)?;
         Ok(first_contact(&p)?.is_some_and(|c| c.skipped))

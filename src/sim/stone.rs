@@ -427,7 +427,10 @@ mod tests {
                 0.1,
             );
             let err = (p.volume - exact).abs() / exact;
-            assert!(err < last_err / 3.0, "second-order convergence: {err} after {last_err}");
+            assert!(
+                err < last_err / 3.0,
+                "second-order convergence: {err} after {last_err}"
+            );
             last_err = err;
         }
         assert!(last_err < 1e-3);

@@ -190,8 +190,15 @@ struct Coeffs {
 }
 
 impl Coeffs {
+    /// Padded length of one field of a row: one zero before and after the nx values.
+    fn w(&self) -> usize {
+        self.nx + 2
+    }
     fn stride(&self) -> usize {
-        self.nf * self.nx
+        self.nf * self.w()
+    }
+    fn at(&self, ix: usize, iy: usize, f: usize) -> usize {
+        iy * self.stride() + f * self.w() + 1 + ix
     }
     /// Coefficient of the x pipes of row j: a wall row also takes the mirrored diagonals.
     fn row_edge(&self, a: f64, ad: f64, j: usize) -> f64 {
@@ -218,8 +225,9 @@ impl Coeffs {
 struct Scratch {
     w: usize,
     np: usize,
-    /// [slot 0..2][pipe 0..np][w]
+    /// New flows before the limiter: [slot 0..2][pipe 0..np][w].
     qn: Vec<f64>,
+    /// Limited flows of the row before the chunk: [pipe 0..np][w].
     qf: Vec<f64>,
     /// [slot 0..2][w]
     k: Vec<f64>,
@@ -235,7 +243,7 @@ impl Scratch {
             self.w = w;
             self.np = np;
             self.qn = vec![0.0; 2 * np * w];
-            self.qf = vec![0.0; 2 * np * w];
+            self.qf = vec![0.0; np * w];
             self.k = vec![1.0; 2 * w];
             self.h0 = vec![0.0; nx];
             self.h1 = vec![0.0; nx];
@@ -343,10 +351,9 @@ impl WaterGrid {
             pd: dt * ad / (rho * ld),
             beta: dt / (l * l),
         };
-        let n = cfg.nx * cfg.ny;
-        let mut cur = vec![0.0; n * nf];
+        let mut cur = vec![0.0; cfg.ny * co.stride()];
         for row in cur.chunks_exact_mut(co.stride()) {
-            row[..cfg.nx].fill(h);
+            row[1..=cfg.nx].fill(h);
         }
         let nxt = cur.clone();
         Ok(Self {
@@ -618,7 +625,7 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny {
             return 0.0;
         }
-        let d = self.cur[iy * self.co.stride() + ix];
+        let d = self.cur[self.at(ix, iy, 0)];
         match self.bed.get(iy * self.cfg.nx + ix) {
             Some(&b) => (d + b) - self.cfg.depth,
             None => d - self.cfg.depth,
@@ -631,7 +638,7 @@ impl WaterGrid {
         out.clear();
         out.reserve(nx * self.cfg.ny);
         for (iy, row) in self.cur.chunks_exact(self.co.stride()).enumerate() {
-            let d = &row[..nx];
+            let d = &row[1..=nx];
             match self.bed.get(iy * nx..(iy + 1) * nx) {
                 Some(b) => out.extend(d.iter().zip(b).map(|(&d, &b)| ((d + b) - h) as f32)),
                 None => out.extend(d.iter().map(|&d| (d - h) as f32)),
@@ -644,7 +651,7 @@ impl WaterGrid {
         let nx = self.cfg.nx;
         let mut sum = Neumaier::default();
         for row in self.cur.chunks_exact(self.co.stride()) {
-            for &d in &row[..nx] {
+            for &d in &row[1..=nx] {
                 sum.add(d);
             }
         }
@@ -656,7 +663,7 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny {
             return 0.0;
         }
-        self.cur[iy * self.co.stride() + ix]
+        self.cur[self.at(ix, iy, 0)]
     }
 
     /// Smallest depth of any column (m).
@@ -664,7 +671,7 @@ impl WaterGrid {
         let nx = self.cfg.nx;
         self.cur
             .chunks_exact(self.co.stride())
-            .flat_map(|r| r[..nx].iter().copied())
+            .flat_map(|r| r[1..=nx].iter().copied())
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -691,7 +698,12 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny || pipe + 1 >= self.co.nf {
             return 0.0;
         }
-        self.cur[iy * self.co.stride() + (pipe + 1) * self.cfg.nx + ix]
+        self.cur[self.at(ix, iy, pipe + 1)]
+    }
+
+    /// Index of field `f` (0 depth, 1.. pipes) of column (ix, iy) in the state.
+    fn at(&self, ix: usize, iy: usize, f: usize) -> usize {
+        self.co.at(ix, iy, f)
     }
 
     // --- state setters (tests, studies, initial conditions) -----------------------------------
@@ -699,7 +711,8 @@ impl WaterGrid {
     /// Sets the depth (m, clamped to ≥ 0) of column (ix, iy); ignored outside the grid or if not finite.
     pub fn set_depth(&mut self, ix: usize, iy: usize, depth: f64) {
         if ix < self.cfg.nx && iy < self.cfg.ny && depth.is_finite() {
-            self.cur[iy * self.co.stride() + ix] = depth.max(0.0);
+            let i = self.at(ix, iy, 0);
+            self.cur[i] = depth.max(0.0);
         }
     }
 
@@ -731,9 +744,9 @@ impl WaterGrid {
 
     /// Zeroes every flow (the water is then at rest, whatever its surface).
     pub fn clear_flows(&mut self) {
-        let nx = self.cfg.nx;
+        let w = self.co.w();
         for row in self.cur.chunks_exact_mut(self.co.stride()) {
-            row[nx..].fill(0.0);
+            row[w..].fill(0.0);
         }
     }
 
@@ -741,7 +754,8 @@ impl WaterGrid {
     /// the linear travelling wave Q = (gA_pipe/c)(e·n)·η at each pipe's midpoint, taken half a step
     /// back (flows live at half steps), so it travels instead of splitting into two standing halves.
     pub fn set_swell(&mut self, swell: &Swell) {
-        if !(swell.wavelength.is_finite() && swell.wavelength > 0.0 && swell.amplitude.is_finite()) {
+        if !(swell.wavelength.is_finite() && swell.wavelength > 0.0 && swell.amplitude.is_finite())
+        {
             return;
         }
         let (nx, ny, l) = (self.cfg.nx, self.cfg.ny, self.cfg.cell);
@@ -767,16 +781,15 @@ impl WaterGrid {
             (0.0, 0.0)
         };
         let r2 = std::f64::consts::FRAC_1_SQRT_2;
-        let stride = self.co.stride();
         let diag = self.cfg.diagonal_pipes;
+        let co = self.co;
         for iy in 0..ny {
             let yc = oy + (iy as f64 + 0.5) * l;
             for ix in 0..nx {
                 let xc = ox + (ix as f64 + 0.5) * l;
-                let base = iy * stride;
                 let bed = self.bed(ix, iy);
-                self.cur[base + ix] = (eta(xc, yc, 0.0) - bed).max(0.0);
-                let q = |f: usize| base + f * nx + ix;
+                let q = |f: usize| co.at(ix, iy, f);
+                self.cur[q(0)] = (eta(xc, yc, 0.0) - bed).max(0.0);
                 if ix + 1 < nx {
                     self.cur[q(1)] = fx * cs * eta(xc + 0.5 * l, yc, t_half);
                 }
@@ -832,7 +845,6 @@ struct Input<'a> {
     zeros: &'a [f64],
 }
 
-
 fn run_chunk(co: &Coeffs, input: &Input, r0: usize, r1: usize, out: &mut [f64], s: &mut Scratch) {
     if co.nf == 5 {
         chunk::<true>(co, input, r0, r1, out, s);
@@ -843,10 +855,10 @@ fn run_chunk(co: &Coeffs, input: &Input, r0: usize, r1: usize, out: &mut [f64], 
 
 /// One chunk of rows [r0, r1), as one fused sweep. For each row j, starting two rows early:
 /// A(j) the new flows of row j's pipes (reads old rows j, j + 1); K(j) the limiter of row j (needs
-/// A(j − 1), A(j)); F(j − 1) the limited flows of row j − 1 (needs K(j − 1), K(j)); D(j − 1) the new
-/// depths of row j − 1 (needs F(j − 2), F(j − 1)). Row ny is virtual (K = 1). Two slots per buffer hold
-/// rows j − 1 and j; a slot not yet written holds zero flows, which is what the rows before the grid
-/// carry.
+/// A(j − 1), A(j)); F(j − 1) the limited flows of row j − 1 (needs K(j − 1), K(j)), written straight
+/// into the new state (or, for the row before the chunk, into the halo buffer); D(j − 1) the new depths
+/// of row j − 1 (needs F(j − 2), F(j − 1)). Row ny is virtual (K = 1). Two slots per buffer hold rows
+/// j − 1 and j; a slot not yet written holds zero flows, which is what the rows before the grid carry.
 fn chunk<const DIAG: bool>(
     co: &Coeffs,
     input: &Input,
@@ -857,14 +869,14 @@ fn chunk<const DIAG: bool>(
 ) {
     let (nx, ny) = (co.nx, co.ny);
     let stride = co.stride();
-    let w = nx + 2;
+    let w = co.w();
     let blk = (co.nf - 1) * w;
     s.qn.fill(0.0);
     s.qf.fill(0.0);
     s.k.fill(1.0);
     for j in r0.saturating_sub(2)..=r1 {
         let cur = j % 2;
-        let oth = 1 - cur; // holds row j − 1 (or j + 1 later)
+        let oth = 1 - cur; // holds row j − 1
         if j < ny {
             {
                 let (qa, qb) = s.qn.split_at_mut(blk);
@@ -874,7 +886,7 @@ fn chunk<const DIAG: bool>(
             if j + 1 >= r0 && !co.clamp {
                 let (qa, qb) = s.qn.split_at(blk);
                 let (own, before) = if cur == 0 { (qa, qb) } else { (qb, qa) };
-                let d = &input.old[j * stride..j * stride + nx];
+                let d = &input.old[j * stride + 1..j * stride + 1 + nx];
                 let k = &mut s.k[cur * w + 1..cur * w + 1 + nx];
                 limiter_row::<DIAG>(k, d, own, before, w, co.beta);
             }
@@ -884,28 +896,25 @@ fn chunk<const DIAG: bool>(
         if j < r0 || j == 0 {
             continue;
         }
-        // F(j − 1) into slot `oth`.
-        {
-            let (ka, kb) = s.k.split_at(w);
-            let (k_own, k_up) = if oth == 0 { (ka, kb) } else { (kb, ka) };
-            let qn = &s.qn[oth * blk..(oth + 1) * blk];
-            let qf = &mut s.qf[oth * blk..(oth + 1) * blk];
-            finalize_row::<DIAG>(qf, qn, k_own, k_up, w);
-        }
         let jm = j - 1;
+        let (ka, kb) = s.k.split_at(w);
+        let (k_own, k_up) = if oth == 0 { (ka, kb) } else { (kb, ka) };
+        let qn = &s.qn[oth * blk..(oth + 1) * blk];
         if jm < r0 {
+            // The row before the chunk: its limited flows feed D(r0).
+            finalize_row::<DIAG>(&mut s.qf[..blk], qn, k_own, k_up, w);
             continue;
         }
-        // D(j − 1): F(j − 1) is in slot `oth`, F(j − 2) in slot `cur`.
-        let (fa, fb) = s.qf.split_at(blk);
-        let (f_own, f_before) = if oth == 0 { (fa, fb) } else { (fb, fa) };
-        let orow = &mut out[(jm - r0) * stride..(jm - r0 + 1) * stride];
-        let (dn, qout) = orow.split_at_mut(nx);
-        let d_old = &input.old[jm * stride..jm * stride + nx];
-        depth_row::<DIAG>(dn, d_old, f_own, f_before, w, co.beta, co.clamp);
-        for (p, q) in qout.chunks_exact_mut(nx).enumerate() {
-            q.copy_from_slice(&f_own[p * w + 1..p * w + 1 + nx]);
-        }
+        let (done, rest) = out.split_at_mut((jm - r0) * stride);
+        let (dn, pipes) = rest[..stride].split_at_mut(w);
+        finalize_row::<DIAG>(pipes, qn, k_own, k_up, w);
+        let before: &[f64] = if jm == r0 {
+            &s.qf[..blk]
+        } else {
+            &done[(jm - r0 - 1) * stride + w..(jm - r0) * stride]
+        };
+        let d_old = &input.old[jm * stride + 1..jm * stride + 1 + nx];
+        depth_row::<DIAG>(&mut dn[1..=nx], d_old, pipes, before, w, co.beta, co.clamp);
     }
 }
 
@@ -920,30 +929,31 @@ fn flows_row<const DIAG: bool>(
 ) {
     let (nx, ny) = (co.nx, co.ny);
     let stride = co.stride();
-    let w = nx + 2;
+    let w = co.w();
     let row = &input.old[j * stride..(j + 1) * stride];
     let has_up = j + 1 < ny;
     let ju = if has_up { j + 1 } else { j };
     let up = &input.old[ju * stride..(ju + 1) * stride];
+    let field = |f: usize| f * w + 1..f * w + 1 + nx;
     // Surfaces h of rows j and j + 1: the depths, plus the bed where one is set.
     let (h0, h1): (&[f64], &[f64]) = if input.row_bed[j] || input.row_bed[ju] {
-        surface(h0buf, &row[..nx], input.bed, j * nx);
-        surface(h1buf, &up[..nx], input.bed, ju * nx);
+        surface(h0buf, &row[field(0)], input.bed, j * nx);
+        surface(h1buf, &up[field(0)], input.bed, ju * nx);
         (&h0buf[..nx], &h1buf[..nx])
     } else {
-        (&row[..nx], &up[..nx])
+        (&row[field(0)], &up[field(0)])
     };
     let (qn_x, rest) = qn.split_at_mut(w);
     let (qn_y, rest) = rest.split_at_mut(w);
     let (qn_d, qn_a) = rest.split_at_mut(if DIAG { w } else { 0 });
     let (gx, gd, damp) = (co.gx, co.gd, co.damp);
-    grad_x(&mut qn_x[1..=nx], &row[nx..2 * nx], h0, damp, co.row_edge(gx, gd, j));
+    grad_x(&mut qn_x[1..=nx], &row[field(1)], h0, damp, co.row_edge(gx, gd, j));
     if has_up {
         let ge = co.col_edge(gx, gd);
-        grad_y(&mut qn_y[1..=nx], &row[2 * nx..3 * nx], h0, h1, damp, gx, ge);
+        grad_y(&mut qn_y[1..=nx], &row[field(2)], h0, h1, damp, gx, ge);
         if DIAG {
-            grad_d(&mut qn_d[1..=nx], &row[3 * nx..4 * nx], h0, h1, damp, gd);
-            grad_a(&mut qn_a[1..=nx], &row[4 * nx..5 * nx], h0, h1, damp, gd);
+            grad_d(&mut qn_d[1..=nx], &row[field(3)], h0, h1, damp, gd);
+            grad_a(&mut qn_a[1..=nx], &row[field(4)], h0, h1, damp, gd);
         }
     } else {
         qn_y.fill(0.0);
@@ -1104,6 +1114,16 @@ fn pos(x: f64) -> f64 {
     }
 }
 
+/// min(x, 0) as a plain compare.
+#[inline(always)]
+fn neg(x: f64) -> f64 {
+    if x < 0.0 {
+        x
+    } else {
+        0.0
+    }
+}
+
 /// K = min(1, cap/out), cap = max(depth, 0): never NaN (out > cap ≥ 0 before dividing).
 #[inline(always)]
 fn kfactor(depth: f64, out: f64) -> f64 {
@@ -1158,11 +1178,12 @@ fn limiter_row<const DIAG: bool>(
 /// other end's for a negative one (`k_own`, `k_up`: padded K of rows j and j + 1).
 fn finalize_row<const DIAG: bool>(qf: &mut [f64], qn: &[f64], k_own: &[f64], k_up: &[f64], w: usize) {
     let n = w - 2;
+    // max(q, 0)·K_owner + min(q, 0)·K_other: one of the two terms is an exact zero, so this is
+    // exactly q·K_upwind, without a branch or a select.
     let scale = |f: &mut [f64], q: &[f64], kd: &[f64], ku: &[f64]| {
         let (f, q, kd, ku) = (&mut f[..n], &q[..n], &kd[..n], &ku[..n]);
         for i in 0..n {
-            let kk = if q[i] >= 0.0 { kd[i] } else { ku[i] };
-            f[i] = q[i] * kk;
+            f[i] = pos(q[i]) * kd[i] + neg(q[i]) * ku[i];
         }
     };
     let kd = &k_own[1..];

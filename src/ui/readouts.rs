@@ -1,0 +1,195 @@
+//! Readouts: the run's numbers, the table of contacts, live plots of height, speed and wetted area
+//! over time, where the frame time goes, and export (trajectory CSV, screenshot).
+
+use egui::{RichText, Ui};
+use egui_plot::{Line, Plot, PlotPoint, PlotPoints};
+use glam::DVec3;
+
+use super::{Action, FrameTiming, Readouts};
+use crate::sim::{ContactEvent, StepSample};
+
+/// Time series for the plots, thinned: every step in contact, every 2 ms in flight.
+#[derive(Debug, Clone, Default)]
+pub struct PlotSeries {
+    pub height: Vec<PlotPoint>,
+    pub speed: Vec<PlotPoint>,
+    /// cm²
+    pub area: Vec<PlotPoint>,
+    last_t: f64,
+}
+
+impl PlotSeries {
+    /// Most points kept per series; past it every other point is dropped.
+    pub const MAX_POINTS: usize = 40_000;
+    /// Spacing of flight samples (s).
+    pub const FLIGHT_SPACING: f64 = 0.002;
+
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    pub fn push(&mut self, s: &StepSample) {
+        if !s.in_contact && !self.height.is_empty() && s.time - self.last_t < Self::FLIGHT_SPACING {
+            return;
+        }
+        self.last_t = s.time;
+        let p = s.state.position;
+        let v = s.state.velocity;
+        self.height.push(PlotPoint::new(s.time, p.z));
+        self.speed.push(PlotPoint::new(s.time, v.length()));
+        self.area.push(PlotPoint::new(s.time, s.wetted_area * 1e4));
+        if self.height.len() > Self::MAX_POINTS {
+            for series in [&mut self.height, &mut self.speed, &mut self.area] {
+                let mut i = 0;
+                series.retain(|_| {
+                    i += 1;
+                    i % 2 == 1
+                });
+            }
+        }
+    }
+}
+
+/// The run's numbers now.
+pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
+    egui::Grid::new("readouts")
+        .num_columns(2)
+        .spacing([16.0, 4.0])
+        .show(ui, |ui| {
+            let big = |s: String| RichText::new(s).size(16.0).strong();
+            ui.label("Skips");
+            ui.label(big(format!("{}", r.skips)));
+            ui.end_row();
+            ui.label("Distance");
+            ui.label(big(format!("{:.2} m", r.distance)));
+            ui.end_row();
+            ui.label("Time");
+            ui.monospace(format!("{:.4} s", r.time));
+            ui.end_row();
+            ui.label("Speed");
+            ui.monospace(format!("{:.3} m/s", r.speed));
+            ui.end_row();
+            ui.label("Height");
+            ui.monospace(format!("{:+.4} m", r.height));
+            ui.end_row();
+            ui.label("Water");
+            if r.in_contact {
+                ui.label(
+                    RichText::new(format!("in contact, {:.1} cm² wet", r.wetted_area * 1e4))
+                        .color(egui::Color32::from_rgb(120, 200, 255)),
+                );
+            } else {
+                ui.label("in the air");
+            }
+            ui.end_row();
+            ui.label("Outcome");
+            ui.label(r.outcome.unwrap_or("—"));
+            ui.end_row();
+        });
+}
+
+/// The table of contact episodes.
+pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent]) {
+    if contacts.is_empty() {
+        ui.weak("no contact yet");
+        return;
+    }
+    egui::ScrollArea::vertical()
+        .id_salt("contacts")
+        .max_height(150.0)
+        .show(ui, |ui| {
+            egui::Grid::new("contacts_grid")
+                .striped(true)
+                .num_columns(6)
+                .spacing([10.0, 2.0])
+                .show(ui, |ui| {
+                    for h in ["#", "t (s)", "ms", "x (m)", "v in", "β in"] {
+                        ui.label(RichText::new(h).strong());
+                    }
+                    ui.end_row();
+                    for (i, c) in contacts.iter().enumerate() {
+                        let mark = if c.open {
+                            "…"
+                        } else if c.skip {
+                            "✔"
+                        } else {
+                            "✖"
+                        };
+                        ui.label(format!("{} {mark}", i + 1));
+                        ui.monospace(format!("{:.3}", c.t_start));
+                        ui.monospace(format!("{:.1}", 1000.0 * (c.t_end - c.t_start)));
+                        ui.monospace(format!("{:.2}", c.x));
+                        ui.monospace(format!("{:.2}", DVec3::from_array(c.v_in).length()));
+                        ui.monospace(format!("{:.1}°", c.beta_in));
+                        ui.end_row();
+                    }
+                });
+        });
+}
+
+/// Height, speed and wetted area over time, sharing the time axis.
+pub fn plots_ui(ui: &mut Ui, series: &PlotSeries, now: f64) {
+    let link = egui::Id::unique("stoneskip_plots_x");
+    let plots: [(&str, &str, &[PlotPoint], egui::Color32); 3] = [
+        ("height", "z (m)", &series.height, egui::Color32::from_rgb(120, 200, 255)),
+        ("speed", "|v| (m/s)", &series.speed, egui::Color32::from_rgb(255, 200, 90)),
+        ("wetted", "wet (cm²)", &series.area, egui::Color32::from_rgb(140, 230, 140)),
+    ];
+    for (id, label, data, color) in plots {
+        ui.label(RichText::new(label).small());
+        Plot::new(id)
+            .height(78.0)
+            .link_axis(link, [true, false])
+            .allow_scroll(false)
+            .allow_zoom(false)
+            .allow_drag(false)
+            .include_x(0.0)
+            .include_x(now.max(0.1))
+            .include_y(0.0)
+            .show_axes([id == "wetted", true])
+            .show(ui, |plot| {
+                plot.line(Line::new(label, PlotPoints::Borrowed(data)).color(color));
+            });
+    }
+}
+
+/// Where the frame time goes.
+pub fn timing_ui(ui: &mut Ui, t: &FrameTiming, adapter: &str) {
+    let fps = if t.frame_ms > 0.0 { 1000.0 / t.frame_ms } else { 0.0 };
+    ui.label(RichText::new(format!("{fps:.0} fps ({:.1} ms a frame)", t.frame_ms)).strong());
+    let total = t.frame_ms.max(1e-6);
+    for (name, ms, color, tip) in [
+        ("physics", t.physics_ms, egui::Color32::from_rgb(255, 200, 90), "Stone ticks: integration, contact, forces"),
+        ("water", t.water_ms, egui::Color32::from_rgb(120, 200, 255), "Water grid steps, and copying η to the GPU"),
+        ("render", t.render_ms, egui::Color32::from_rgb(200, 150, 255), "Scene and panels drawn, submitted, presented"),
+        ("panels", t.ui_ms, egui::Color32::from_rgb(160, 160, 160), "Building the panels (egui)"),
+    ] {
+        ui.horizontal(|ui| {
+            ui.label(format!("{name:8}")).on_hover_text(tip);
+            let frac = (ms / total).clamp(0.0, 1.0) as f32;
+            ui.add(
+                egui::ProgressBar::new(frac)
+                    .desired_width(120.0)
+                    .fill(color.gamma_multiply(0.7))
+                    .text(format!("{ms:.2} ms")),
+            );
+        });
+    }
+    ui.weak(adapter);
+}
+
+/// Export buttons.
+pub fn export_ui(ui: &mut Ui, has_samples: bool, actions: &mut Vec<Action>) {
+    ui.horizontal(|ui| {
+        if ui
+            .add_enabled(has_samples, egui::Button::new("Trajectory CSV"))
+            .on_hover_text("t, x, y, z, v, q, ω, contact, wetted area, force per step (as `stoneskip simulate --csv`)")
+            .clicked()
+        {
+            actions.push(Action::ExportCsv);
+        }
+        if ui.button("Screenshot PNG").clicked() {
+            actions.push(Action::Screenshot);
+        }
+    });
+}

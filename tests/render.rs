@@ -1,0 +1,231 @@
+//! Offscreen picture tests: render the app's scene on whatever adapter wgpu finds (CI: Mesa's
+//! llvmpipe/lavapipe software rasterisers) and check the picture — sky above, water below, the stone
+//! where the camera projects it, rings after a contact — and compare it with a reference PNG.
+//!
+//! Without any adapter these tests FAIL, unless `STONESKIP_SKIP_GPU_TESTS=1` says to skip them.
+//! Regenerate the reference pictures with `STONESKIP_UPDATE_REFERENCE=1 cargo test --test render`.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use stoneskip::render::{Offscreen, SceneStyle, SimulatedScene};
+use stoneskip::sim::params::Preset;
+
+const W: u32 = 320;
+const H: u32 = 180;
+
+fn default_preset() -> Preset {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/presets/default.ron");
+    stoneskip::preset::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The offscreen renderer, or `None` when the tests are told to skip without an adapter.
+fn offscreen() -> Option<Offscreen> {
+    match Offscreen::new() {
+        Ok(o) => {
+            eprintln!("adapter: {}", o.adapter());
+            Some(o)
+        }
+        Err(e) => {
+            if std::env::var("STONESKIP_SKIP_GPU_TESTS").is_ok_and(|v| v == "1") {
+                eprintln!("SKIPPED (STONESKIP_SKIP_GPU_TESTS=1): {e}");
+                None
+            } else {
+                panic!("{e}\n(set STONESKIP_SKIP_GPU_TESTS=1 to skip the picture tests on a machine without any adapter)");
+            }
+        }
+    }
+}
+
+fn luma(p: &image::Rgba<u8>) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+}
+
+/// Mean colour of rows [y0, y1).
+fn mean_rows(img: &image::RgbaImage, y0: u32, y1: u32) -> [f64; 4] {
+    let mut s = [0.0; 4];
+    let mut n = 0.0;
+    for y in y0..y1 {
+        for x in 0..img.width() {
+            let p = img.get_pixel(x, y);
+            for c in 0..3 {
+                s[c] += p[c] as f64;
+            }
+            s[3] += luma(p);
+            n += 1.0;
+        }
+    }
+    s.map(|v| v / n)
+}
+
+/// Largest per-channel difference in the window of `radius` pixels around (cx, cy).
+fn max_diff_near(a: &image::RgbaImage, b: &image::RgbaImage, cx: f32, cy: f32, radius: i64) -> u8 {
+    let mut m = 0u8;
+    for dy in -radius..=radius {
+        for dx in -radius..=radius {
+            let x = cx as i64 + dx;
+            let y = cy as i64 + dy;
+            if x < 0 || y < 0 || x >= a.width() as i64 || y >= a.height() as i64 {
+                continue;
+            }
+            let (p, q) = (a.get_pixel(x as u32, y as u32), b.get_pixel(x as u32, y as u32));
+            for c in 0..3 {
+                m = m.max(p[c].abs_diff(q[c]));
+            }
+        }
+    }
+    m
+}
+
+#[test]
+fn sky_above_water_below_and_stone_where_projected() {
+    let Some(mut off) = offscreen() else { return };
+    let preset = default_preset();
+    // In flight, before the first contact.
+    let state = SimulatedScene::at_time(&preset, 0.05).unwrap();
+    assert!(state.sim.contacts().is_empty());
+    let scene = state.scene(SceneStyle::default());
+    let with_stone = off.render(&scene, W, H).unwrap();
+    assert_eq!(with_stone.dimensions(), (W, H));
+
+    // Sky: the top rows are bluish (blue above red) and brighter than the water at the bottom.
+    let sky = mean_rows(&with_stone, 0, H / 8);
+    let water = mean_rows(&with_stone, H * 3 / 4, H);
+    assert!(sky[2] > sky[0] + 10.0, "sky not bluish: {sky:?}");
+    assert!(sky[3] > water[3] + 40.0, "sky {sky:?} not brighter than water {water:?}");
+    // Water: blue-green, darker, green and blue above red.
+    assert!(water[1] > water[0] && water[2] > water[0], "water colour {water:?}");
+
+    // The stone: where the camera projects its centre, the picture differs from one without it.
+    let pos = state.sim.state().position.as_vec3();
+    let px = scene
+        .camera
+        .project(pos, W, H)
+        .expect("the stone is in front of the camera");
+    assert!(px.x > 0.0 && px.y > 0.0 && px.x < W as f32 && px.y < H as f32, "stone at {px:?}");
+    let mut without = scene.clone();
+    without.stone = None;
+    let no_stone = off.render(&without, W, H).unwrap();
+    let d = max_diff_near(&with_stone, &no_stone, px.x, px.y, 1);
+    assert!(d > 20, "the stone changes pixels near {px:?} by only {d}");
+    // Far from the stone (the sky) nothing changes.
+    assert_eq!(max_diff_near(&with_stone, &no_stone, 10.0, 5.0, 4), 0);
+}
+
+#[test]
+fn rings_change_the_water_after_a_contact() {
+    let Some(mut off) = offscreen() else { return };
+    let preset = default_preset();
+    let probe = SimulatedScene::at_time(&preset, 0.5).unwrap();
+    let first = *probe
+        .sim
+        .contacts()
+        .first()
+        .expect("the default throw touches the water within 0.5 s");
+    let before = SimulatedScene::at_time(&preset, (first.t_start - 0.02).max(0.0)).unwrap();
+    let after = SimulatedScene::at_time(&preset, first.t_start + 0.3).unwrap();
+    // Only the water differs: no stone, trail, markers or splash cues, the same wind-ripple time.
+    let style = SceneStyle {
+        show_trail: false,
+        show_markers: false,
+        show_splashes: false,
+        ripple_gain: 1.0,
+    };
+    let mut a = before.scene(style);
+    let mut b = after.scene(style);
+    a.stone = None;
+    b.stone = None;
+    b.time = a.time;
+    let img_a = off.render(&a, W, H).unwrap();
+    let img_b = off.render(&b, W, H).unwrap();
+    let px = a
+        .camera
+        .project(Vec3::new(first.x as f32, first.y as f32, 0.0), W, H)
+        .expect("contact point in view");
+    // Rings spread ~0.5 m in 0.3 s: look in a window around the touch point.
+    let mut changed = 0;
+    let r = 25i64;
+    for dy in -r / 2..=r / 2 {
+        for dx in -r..=r {
+            let (x, y) = (px.x as i64 + dx, px.y as i64 + dy);
+            if x < 0 || y < 0 || x >= W as i64 || y >= H as i64 {
+                continue;
+            }
+            let (p, q) = (img_a.get_pixel(x as u32, y as u32), img_b.get_pixel(x as u32, y as u32));
+            if (0..3).any(|c| p[c].abs_diff(q[c]) > 6) {
+                changed += 1;
+            }
+        }
+    }
+    assert!(changed > 40, "only {changed} pixels changed around the contact at {px:?}");
+    // The sky is untouched.
+    assert_eq!(max_diff_near(&img_a, &img_b, W as f32 / 2.0, 5.0, 4), 0);
+}
+
+/// Compares with `tests/reference_images/NAME` within a tolerance (mean difference and the share of
+/// clearly different pixels, as wgpu's examples do); `STONESKIP_UPDATE_REFERENCE=1` rewrites it.
+fn compare_with_reference(img: &image::RgbaImage, name: &str) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference_images")
+        .join(name);
+    if std::env::var("STONESKIP_UPDATE_REFERENCE").is_ok_and(|v| v == "1") {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        img.save(&path).unwrap();
+        eprintln!("wrote {}", path.display());
+        return;
+    }
+    let reference = image::open(&path)
+        .unwrap_or_else(|e| {
+            panic!(
+                "cannot read {}: {e} (create it with STONESKIP_UPDATE_REFERENCE=1 cargo test --test render)",
+                path.display()
+            )
+        })
+        .to_rgba8();
+    assert_eq!(reference.dimensions(), img.dimensions());
+    let mut sum = 0u64;
+    let mut bad = 0usize;
+    for (p, q) in img.pixels().zip(reference.pixels()) {
+        let d = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0);
+        sum += d as u64;
+        if d > 24 {
+            bad += 1;
+        }
+    }
+    let n = (img.width() * img.height()) as f64;
+    let mean = sum as f64 / n;
+    let share = bad as f64 / n;
+    if mean > 1.5 || share > 0.01 {
+        let out = std::env::temp_dir().join(format!("stoneskip-actual-{name}"));
+        let _ = img.save(&out);
+        panic!(
+            "{name}: mean difference {mean:.3} (limit 1.5), {:.2} % of pixels differ by more than 24 (limit 1 %); \
+             this run's picture: {}",
+            100.0 * share,
+            out.display()
+        );
+    }
+}
+
+#[test]
+fn matches_reference_picture() {
+    let Some(mut off) = offscreen() else { return };
+    let preset = default_preset();
+    let state = SimulatedScene::at_time(&preset, 0.6).unwrap();
+    let img = off.render(&state.scene(SceneStyle::default()), W, H).unwrap();
+    compare_with_reference(&img, "default_t0.6_320x180.png");
+}
+
+#[test]
+fn render_to_png_writes_rgba8() {
+    if offscreen().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("shot.png");
+    // A width whose rows need padding to 256 bytes on readback.
+    stoneskip::render::render_to_png(&default_preset(), &out, 203, 101, 0.2).unwrap();
+    let img = image::open(&out).unwrap();
+    assert_eq!(img.color(), image::ColorType::Rgba8);
+    assert_eq!((img.width(), img.height()), (203, 101));
+}
