@@ -65,14 +65,17 @@ fn view_ray(ndc: vec2<f32>) -> vec3<f32> {
 }
 
 // Value noise and its gradient (for the procedural water detail and the stone's grain).
+// Arithmetic hashes (no trigonometry: cheap on software rasterisers), after D. Hoskins.
 fn hash2(p: vec2<f32>) -> f32 {
-    let h = dot(p, vec2<f32>(127.1, 311.7));
-    return fract(sin(h) * 43758.5453);
+    var p3 = fract(vec3<f32>(p.x, p.y, p.x) * 0.1031);
+    p3 += dot(p3, p3.yzx + 33.33);
+    return fract((p3.x + p3.y) * p3.z);
 }
 
 fn hash3(p: vec3<f32>) -> f32 {
-    let h = dot(p, vec3<f32>(127.1, 311.7, 74.7));
-    return fract(sin(h) * 43758.5453);
+    var p3 = fract(p * 0.1031);
+    p3 += dot(p3, p3.zyx + 31.32);
+    return fract((p3.x + p3.y) * p3.z);
 }
 
 // Value noise in 2D: returns (value, d/dx, d/dy).

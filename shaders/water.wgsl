@@ -77,7 +77,7 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     let fresnel = 0.02 + 0.98 * pow(1.0 - ndv, 5.0);
     var r = reflect(-v, n);
     r.z = abs(r.z);
-    let reflected = sky_base(r);
+    let reflected = vec3<f32>(0.5);
 
     // Water body: deep blue-green, a little light scattered from the sun, brighter on crests.
     let deep = vec3<f32>(0.012, 0.045, 0.060);
@@ -95,6 +95,6 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     // Haze towards the horizon.
     let fog = 1.0 - exp(-dist / g.options.y);
     let flat_dir = normalize(vec3<f32>(-v.xy, 0.02));
-    c = mix(c, sky_base(flat_dir), fog);
+    c = mix(c, vec3<f32>(0.5), fog);
     return vec4<f32>(finish(c), 1.0);
 }

@@ -22,11 +22,16 @@ use crate::preset;
 use crate::render::camera::throw_heading;
 use crate::render::gpu::{describe_adapter, request_adapter, request_device, Gpu};
 use crate::render::offscreen::read_rgba8;
-use crate::render::{Camera, RendererConfig, Scene, SceneRenderer, SceneStyle, Trail, Viewport, WaterHeights};
+use crate::render::{
+    Camera, RendererConfig, Scene, SceneRenderer, SceneStyle, Trail, Viewport, WaterHeights,
+};
 use crate::report::CsvWriter;
 use crate::sim::params::{Physics, Preset};
 use crate::sim::{Simulation, StepSample};
-use crate::ui::{self, Action, FrameTiming, Message, Phase, PlotSeries, PresetLibrary, Readouts, SimControls, ViewRequest, ViewSettings};
+use crate::ui::{
+    self, Action, FrameTiming, Message, Phase, PlotSeries, PresetLibrary, Readouts, SimControls,
+    ViewRequest, ViewSettings,
+};
 
 /// Most simulated time one frame may run (s); the rest is dropped.
 pub const MAX_SIM_PER_FRAME: f64 = 0.1;
@@ -73,7 +78,11 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
 /// The shipped default preset, or the built-in one.
 fn default_preset() -> (Preset, Option<PathBuf>) {
     let lib = PresetLibrary::discover();
-    if let Some(p) = lib.shipped.iter().find(|p| p.file_stem().is_some_and(|s| s == "default")) {
+    if let Some(p) = lib
+        .shipped
+        .iter()
+        .find(|p| p.file_stem().is_some_and(|s| s == "default"))
+    {
         if let Ok(preset) = preset::load(p) {
             return (preset, Some(p.clone()));
         }
@@ -115,9 +124,10 @@ impl Gfx {
                 .create_window(attrs)
                 .map_err(|e| anyhow!("cannot create the window: {e}"))?,
         );
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
-            Box::new(event_loop.owned_display_handle()),
-        ));
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
+                Box::new(event_loop.owned_display_handle()),
+            ));
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| anyhow!("cannot draw into the window: {e}"))?;
@@ -129,9 +139,19 @@ impl Gfx {
             .formats
             .iter()
             .copied()
-            .find(|f| matches!(f, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm))
+            .find(|f| {
+                matches!(
+                    f,
+                    wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
+                )
+            })
             .or_else(|| caps.formats.first().copied())
-            .ok_or_else(|| anyhow!("the window's surface offers no colour format on {}", describe_adapter(&adapter)))?;
+            .ok_or_else(|| {
+                anyhow!(
+                    "the window's surface offers no colour format on {}",
+                    describe_adapter(&adapter)
+                )
+            })?;
         let no_vsync = std::env::var("STONESKIP_NO_VSYNC").is_ok_and(|v| v == "1");
         let present_mode = if no_vsync {
             wgpu::PresentMode::AutoNoVsync
@@ -147,7 +167,11 @@ impl Gfx {
             height: size.height.max(1),
             present_mode,
             desired_maximum_frame_latency: 2,
-            alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
             view_formats: vec![],
         };
         surface.configure(&device, &config);
@@ -180,7 +204,11 @@ impl Gfx {
                 predictable_texture_filtering: false,
             },
         );
-        let adapter_name = format!("{}{}", describe_adapter(&adapter), if samples > 1 { ", 4× MSAA" } else { "" });
+        let adapter_name = format!(
+            "{}{}",
+            describe_adapter(&adapter),
+            if samples > 1 { ", 4× MSAA" } else { "" }
+        );
         Ok(Self {
             window,
             surface,
@@ -209,9 +237,12 @@ impl Gfx {
     }
 }
 
-/// MSAA samples for the 3D view: 4 where the adapter can, unless `STONESKIP_MSAA=1`.
+/// MSAA samples for the 3D view: 4 where a hardware adapter can; `STONESKIP_MSAA=1` or `=4` overrides.
 fn msaa_samples(adapter: &wgpu::Adapter, format: wgpu::TextureFormat) -> u32 {
-    if std::env::var("STONESKIP_MSAA").is_ok_and(|v| v == "1") {
+    // Software rasterisers pay for every sample: off there unless asked for (STONESKIP_MSAA=4).
+    let asked = std::env::var("STONESKIP_MSAA").ok();
+    let software = adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+    if asked.as_deref() == Some("1") || (software && asked.as_deref() != Some("4")) {
         return 1;
     }
     let color = adapter.get_texture_format_features(format).flags;
@@ -393,7 +424,11 @@ impl Model {
 
     /// One tick, recording the trail, samples and plots, and the time it took.
     fn tick_once(&mut self) {
-        while self.replay_queue.last().is_some_and(|(t, _)| *t <= self.ticks) {
+        while self
+            .replay_queue
+            .last()
+            .is_some_and(|(t, _)| *t <= self.ticks)
+        {
             if let Some((_, p)) = self.replay_queue.pop() {
                 // The logged physics was accepted once; a failure here would be a bug, not input.
                 let _ = self.sim.set_physics(p);
@@ -542,7 +577,8 @@ impl Model {
                     self.physics_log.clear();
                     self.camera = Camera::default_for(&self.edit);
                     self.view.follow = false;
-                    self.library.message = Some(Message::info(format!("loaded {}", path.display())));
+                    self.library.message =
+                        Some(Message::info(format!("loaded {}", path.display())));
                 }
                 Err(e) => {
                     self.library.message = Some(Message::error(format!("{}: {e}", path.display())));
@@ -555,7 +591,8 @@ impl Model {
 
     fn save_preset(&mut self, name: &str) {
         let Some(path) = self.library.user_path(name) else {
-            self.library.message = Some(Message::error("give the preset a name (letters or digits)"));
+            self.library.message =
+                Some(Message::error("give the preset a name (letters or digits)"));
             return;
         };
         let mut p = self.edit.clone();
@@ -577,10 +614,15 @@ impl Model {
     }
 
     fn export_csv(&mut self) {
-        let name = format!("stoneskip-{}-{}.csv", crate::ui::file_stem_for(&self.sim.preset().name), unix_secs());
+        let name = format!(
+            "stoneskip-{}-{}.csv",
+            crate::ui::file_stem_for(&self.sim.preset().name),
+            unix_secs()
+        );
         let path = PathBuf::from(name);
         let result = (|| -> Result<()> {
-            let file = std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
+            let file = std::fs::File::create(&path)
+                .with_context(|| format!("creating {}", path.display()))?;
             let physics = self.sim.preset().physics;
             let mut w = CsvWriter::new(
                 std::io::BufWriter::new(file),
@@ -689,7 +731,11 @@ impl Model {
             speed: s.velocity.length(),
             height: s.position.z,
             in_contact: self.sim.in_contact(),
-            wetted_area: if self.sim.in_contact() { f.wetted_area } else { 0.0 },
+            wetted_area: if self.sim.in_contact() {
+                f.wetted_area
+            } else {
+                0.0
+            },
             outcome: self.sim.outcome().map(|o| o.as_str()),
             ticks_last_frame: self.ticks_last_frame,
             dt: self.sim.preset().physics.dt,
@@ -734,7 +780,9 @@ impl Model {
             outcome: self.sim.outcome().map(|o| o.as_str()),
             pending_changes: self.pending_changes,
             dropped_total: self.dropped_total,
-            dropping_now: self.last_drop.is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
+            dropping_now: self
+                .last_drop
+                .is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
             can_replay: self.last_throw.is_some(),
             invalid: self.invalid.clone(),
         };
@@ -846,7 +894,9 @@ impl Model {
         let delta = resp.drag_delta();
         if resp.dragged_by(egui::PointerButton::Primary) {
             self.camera.orbit(-delta.x * 0.006, -delta.y * 0.006);
-        } else if resp.dragged_by(egui::PointerButton::Secondary) || resp.dragged_by(egui::PointerButton::Middle) {
+        } else if resp.dragged_by(egui::PointerButton::Secondary)
+            || resp.dragged_by(egui::PointerButton::Middle)
+        {
             self.camera.pan(delta.x, delta.y, rect.height());
             self.view.follow = false;
         }
@@ -874,7 +924,13 @@ impl Model {
             egui::FontId::proportional(22.0),
             egui::Color32::from_black_alpha(140),
         );
-        painter.text(pos, egui::Align2::LEFT_TOP, &score, egui::FontId::proportional(22.0), egui::Color32::WHITE);
+        painter.text(
+            pos,
+            egui::Align2::LEFT_TOP,
+            &score,
+            egui::FontId::proportional(22.0),
+            egui::Color32::WHITE,
+        );
         let hint = if self.phase == Phase::Ready {
             "Space: throw   ·   drag: orbit   right-drag: pan   wheel: zoom   F: follow"
         } else {
@@ -912,7 +968,9 @@ impl App {
         let raw = gfx.egui_state.take_egui_input(&gfx.window);
         let mut actions = Vec::new();
         let adapter = gfx.adapter.clone();
-        let mut full = gfx.egui_ctx.run_ui(raw, |ui| model.build_ui(ui, &adapter, &mut actions));
+        let mut full = gfx
+            .egui_ctx
+            .run_ui(raw, |ui| model.build_ui(ui, &adapter, &mut actions));
         let ui_s = frame_start.elapsed().as_secs_f64();
         gfx.egui_state
             .handle_platform_output(&gfx.window, std::mem::take(&mut full.platform_output));
@@ -935,13 +993,17 @@ impl App {
             let target = model.drawn_pose().0.as_vec3();
             let k = 1.0 - (-(real_dt as f32) * 6.0).exp();
             let t = model.camera.target;
-            model.camera.follow(t + (target - t) * if model.frames == 0 { 1.0 } else { k });
+            model
+                .camera
+                .follow(t + (target - t) * if model.frames == 0 { 1.0 } else { k });
         }
 
         // Draw: the scene in the 3D view's rectangle, then the panels over it.
         let render_start = Instant::now();
         let ppp = full.pixels_per_point;
-        let prims = gfx.egui_ctx.tessellate(std::mem::take(&mut full.shapes), ppp);
+        let prims = gfx
+            .egui_ctx
+            .tessellate(std::mem::take(&mut full.shapes), ppp);
         let result = draw(gfx, model, &prims, &mut full.textures_delta, ppp);
         if let Err(e) = result {
             self.fatal = Some(e);
@@ -951,7 +1013,13 @@ impl App {
         let render_s = render_start.elapsed().as_secs_f64();
 
         let frame_s = frame_start.elapsed().as_secs_f64();
-        let smooth = |old: f64, new: f64| if old == 0.0 { new } else { 0.9 * old + 0.1 * new };
+        let smooth = |old: f64, new: f64| {
+            if old == 0.0 {
+                new
+            } else {
+                0.9 * old + 0.1 * new
+            }
+        };
         let t = &mut model.timing;
         t.frame_ms = smooth(t.frame_ms, 1000.0 * real_dt.max(frame_s));
         t.physics_ms = smooth(t.physics_ms, 1000.0 * model.frame_physics);
@@ -996,7 +1064,9 @@ fn draw(
         }
     }
     let frame = match gfx.surface.get_current_texture() {
-        wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => Some(f),
+        wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => {
+            Some(f)
+        }
         wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
             gfx.surface.configure(device, &gfx.config);
             None
@@ -1007,7 +1077,9 @@ fn draw(
         }
     };
     if let Some(frame) = frame {
-        let view = frame.texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
         let size = (gfx.config.width, gfx.config.height);
         let extra = render_frame(gfx, model, prims, ppp, &view, size);
         gfx.gpu.queue.submit(extra);
@@ -1036,7 +1108,9 @@ fn render_frame(
 ) -> Vec<wgpu::CommandBuffer> {
     let device = &gfx.gpu.device;
     let queue = &gfx.gpu.queue;
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("frame"),
+    });
     let r = model.view_rect;
     let viewport = Viewport {
         x: r.min.x * ppp,
@@ -1094,7 +1168,12 @@ fn render_frame(
 
 /// Draws the whole window (scene and panels) into a texture and saves it as a PNG in the current
 /// directory.
-fn screenshot(gfx: &mut Gfx, model: &Model, prims: &[egui::ClippedPrimitive], ppp: f32) -> Result<PathBuf> {
+fn screenshot(
+    gfx: &mut Gfx,
+    model: &Model,
+    prims: &[egui::ClippedPrimitive],
+    ppp: f32,
+) -> Result<PathBuf> {
     let (w, h) = (gfx.config.width, gfx.config.height);
     let format = gfx.config.format;
     let tex = gfx.gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -1115,7 +1194,10 @@ fn screenshot(gfx: &mut Gfx, model: &Model, prims: &[egui::ClippedPrimitive], pp
     let bufs = render_frame(gfx, model, prims, ppp, &view, (w, h));
     gfx.gpu.queue.submit(bufs);
     let mut pixels = read_rgba8(&gfx.gpu.device, &gfx.gpu.queue, &tex, w, h)?;
-    if matches!(format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb) {
+    if matches!(
+        format,
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    ) {
         for px in pixels.chunks_exact_mut(4) {
             px.swap(0, 2);
         }
@@ -1123,7 +1205,8 @@ fn screenshot(gfx: &mut Gfx, model: &Model, prims: &[egui::ClippedPrimitive], pp
     for px in pixels.chunks_exact_mut(4) {
         px[3] = 255;
     }
-    let img = image::RgbaImage::from_raw(w, h, pixels).ok_or_else(|| anyhow!("pixel count does not match"))?;
+    let img = image::RgbaImage::from_raw(w, h, pixels)
+        .ok_or_else(|| anyhow!("pixel count does not match"))?;
     let path = PathBuf::from(format!("stoneskip-screenshot-{}.png", unix_secs()));
     img.save_with_format(&path, image::ImageFormat::Png)?;
     Ok(std::fs::canonicalize(&path).unwrap_or(path))
@@ -1171,7 +1254,9 @@ impl ApplicationHandler for App {
         let Some(gfx) = self.gfx.as_ref() else {
             return;
         };
-        let continuous = self.frames_limit.is_some() || self.model.phase == Phase::Running || self.model.view.follow;
+        let continuous = self.frames_limit.is_some()
+            || self.model.phase == Phase::Running
+            || self.model.view.follow;
         let now = Instant::now();
         if continuous || self.repaint_at.is_some_and(|t| t <= now) {
             event_loop.set_control_flow(ControlFlow::Poll);

@@ -229,8 +229,10 @@ mod tests {
     fn save_is_atomic_and_round_trips() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("p.ron");
-        let mut p = Preset::default();
-        p.name = "saved".into();
+        let p = Preset {
+            name: "saved".into(),
+            ..Preset::default()
+        };
         save(&path, &p).unwrap();
         assert_eq!(load(&path).unwrap(), p);
         // An invalid preset is refused and the old file is kept intact.

@@ -2,6 +2,8 @@
 //! convergence to Bocquet's 2D plate, the magic angle of Clanet et al. 2004 under the Rosellini
 //! law and its shift under the paper's law, energy, determinism.
 
+#![allow(clippy::field_reassign_with_default)]
+
 use glam::DVec3;
 use stoneskip::sim::params::{
     Attitude, ForceLaw, Integrator, Preset, Rotation, Shape, StoneParams,

@@ -68,7 +68,10 @@ fn max_diff_near(a: &image::RgbaImage, b: &image::RgbaImage, cx: f32, cy: f32, r
             if x < 0 || y < 0 || x >= a.width() as i64 || y >= a.height() as i64 {
                 continue;
             }
-            let (p, q) = (a.get_pixel(x as u32, y as u32), b.get_pixel(x as u32, y as u32));
+            let (p, q) = (
+                a.get_pixel(x as u32, y as u32),
+                b.get_pixel(x as u32, y as u32),
+            );
             for c in 0..3 {
                 m = m.max(p[c].abs_diff(q[c]));
             }
@@ -92,9 +95,15 @@ fn sky_above_water_below_and_stone_where_projected() {
     let sky = mean_rows(&with_stone, 0, H / 8);
     let water = mean_rows(&with_stone, H * 3 / 4, H);
     assert!(sky[2] > sky[0] + 10.0, "sky not bluish: {sky:?}");
-    assert!(sky[3] > water[3] + 40.0, "sky {sky:?} not brighter than water {water:?}");
+    assert!(
+        sky[3] > water[3] + 40.0,
+        "sky {sky:?} not brighter than water {water:?}"
+    );
     // Water: blue-green, darker, green and blue above red.
-    assert!(water[1] > water[0] && water[2] > water[0], "water colour {water:?}");
+    assert!(
+        water[1] > water[0] && water[2] > water[0],
+        "water colour {water:?}"
+    );
 
     // The stone: where the camera projects its centre, the picture differs from one without it.
     let pos = state.sim.state().position.as_vec3();
@@ -102,7 +111,10 @@ fn sky_above_water_below_and_stone_where_projected() {
         .camera
         .project(pos, W, H)
         .expect("the stone is in front of the camera");
-    assert!(px.x > 0.0 && px.y > 0.0 && px.x < W as f32 && px.y < H as f32, "stone at {px:?}");
+    assert!(
+        px.x > 0.0 && px.y > 0.0 && px.x < W as f32 && px.y < H as f32,
+        "stone at {px:?}"
+    );
     let mut without = scene.clone();
     without.stone = None;
     let no_stone = off.render(&without, W, H).unwrap();
@@ -151,13 +163,19 @@ fn rings_change_the_water_after_a_contact() {
             if x < 0 || y < 0 || x >= W as i64 || y >= H as i64 {
                 continue;
             }
-            let (p, q) = (img_a.get_pixel(x as u32, y as u32), img_b.get_pixel(x as u32, y as u32));
+            let (p, q) = (
+                img_a.get_pixel(x as u32, y as u32),
+                img_b.get_pixel(x as u32, y as u32),
+            );
             if (0..3).any(|c| p[c].abs_diff(q[c]) > 6) {
                 changed += 1;
             }
         }
     }
-    assert!(changed > 40, "only {changed} pixels changed around the contact at {px:?}");
+    assert!(
+        changed > 40,
+        "only {changed} pixels changed around the contact at {px:?}"
+    );
     // The sky is untouched.
     assert_eq!(max_diff_near(&img_a, &img_b, W as f32 / 2.0, 5.0, 4), 0);
 }
@@ -212,7 +230,9 @@ fn matches_reference_picture() {
     let Some(mut off) = offscreen() else { return };
     let preset = default_preset();
     let state = SimulatedScene::at_time(&preset, 0.6).unwrap();
-    let img = off.render(&state.scene(SceneStyle::default()), W, H).unwrap();
+    let img = off
+        .render(&state.scene(SceneStyle::default()), W, H)
+        .unwrap();
     compare_with_reference(&img, "default_t0.6_320x180.png");
 }
 

@@ -2,9 +2,13 @@
 //! the Dzhanibekov instability, spin stabilisation and its threshold, precession, and the locked
 //! attitude left untouched by spin.
 
+#![allow(clippy::field_reassign_with_default)]
+
 use glam::{DMat3, DQuat, DVec3};
 use stoneskip::sim::integrate::torque_free;
-use stoneskip::sim::params::{Attitude, ForceLaw, Integrator, Preset, Rotation, Shape, StoneParams};
+use stoneskip::sim::params::{
+    Attitude, ForceLaw, Integrator, Preset, Rotation, Shape, StoneParams,
+};
 use stoneskip::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
 use stoneskip::sim::stone::Stone;
 use stoneskip::sim::Simulation;
@@ -35,7 +39,13 @@ fn clanet(tilt_deg: f64, spin_rev_s: f64) -> Preset {
 
 /// Clanet's throw at impact: U = 3.5 m/s, β = 20°.
 fn clanet_at_impact(tilt_deg: f64, spin_rev_s: f64) -> Preset {
-    at_impact(&clanet(tilt_deg, spin_rev_s), 3.5, 20f64.to_radians(), IMPACT_CLEARANCE).unwrap()
+    at_impact(
+        &clanet(tilt_deg, spin_rev_s),
+        3.5,
+        20f64.to_radians(),
+        IMPACT_CLEARANCE,
+    )
+    .unwrap()
 }
 
 /// Angle (degrees) between the stone's axis at the first contact's start and end.
@@ -59,14 +69,24 @@ fn first_contact_axis_turn(p: &Preset) -> (bool, f64, [f64; 3], [f64; 3]) {
     }
     let c = sim.contacts()[0];
     let a = axis_in.unwrap_or(DVec3::Z);
-    (c.skip, a.angle_between(axis_out).to_degrees(), c.attitude_in, c.attitude_out)
+    (
+        c.skip,
+        a.angle_between(axis_out).to_degrees(),
+        c.attitude_in,
+        c.attitude_out,
+    )
 }
 
 /// Torque-free flight conserves angular momentum and kinetic energy to 1e-9 relative over a
 /// throw; a disc spun about its axis keeps the axis, for every integrator.
 #[test]
 fn torque_free_flight_conserves() {
-    for integrator in [Integrator::Adaptive, Integrator::Rk4, Integrator::Paper, Integrator::SymplecticEuler] {
+    for integrator in [
+        Integrator::Adaptive,
+        Integrator::Rk4,
+        Integrator::Paper,
+        Integrator::SymplecticEuler,
+    ] {
         let mut p = clanet(20.0, 30.0);
         p.launch.position = [0.0, 0.0, 3.0];
         p.launch.velocity = [2.0, 0.0, 4.0];
@@ -82,8 +102,14 @@ fn torque_free_flight_conserves() {
             }
             let l = sim.state().angular_momentum;
             let e = 0.5 * sim.angular_velocity().dot(l);
-            assert!((l - l0).length() <= 1e-9 * l0.length(), "{integrator:?}: L drift");
-            assert!((e - e0).abs() <= 1e-9 * e0, "{integrator:?}: rotational energy {e} vs {e0}");
+            assert!(
+                (l - l0).length() <= 1e-9 * l0.length(),
+                "{integrator:?}: L drift"
+            );
+            assert!(
+                (e - e0).abs() <= 1e-9 * e0,
+                "{integrator:?}: rotational energy {e} vs {e0}"
+            );
         }
         assert!(sim.time() > 1.0, "flew for a second");
 
@@ -98,7 +124,11 @@ fn torque_free_flight_conserves() {
             sim.tick();
         }
         let a1 = sim.world_from_stone().1 * DVec3::Z;
-        assert!(a0.angle_between(a1) < 1e-9, "{integrator:?}: axis drifted {}", a0.angle_between(a1));
+        assert!(
+            a0.angle_between(a1) < 1e-9,
+            "{integrator:?}: axis drifted {}",
+            a0.angle_between(a1)
+        );
     }
 }
 
@@ -118,7 +148,10 @@ fn dzhanibekov_flip_only_about_intermediate_axis() {
     })
     .unwrap();
     let m = stone.principal_moments();
-    assert!(m.x < m.y && m.y < m.z, "x smallest, y intermediate, z largest: {m}");
+    assert!(
+        m.x < m.y && m.y < m.z,
+        "x smallest, y intermediate, z largest: {m}"
+    );
     for (axis, should_flip) in [(DVec3::X, false), (DVec3::Y, true), (DVec3::Z, false)] {
         let w_body = axis * 20.0 + DVec3::new(1e-3, 1e-3, 1e-3);
         let q0 = DQuat::IDENTITY;
@@ -136,9 +169,15 @@ fn dzhanibekov_flip_only_about_intermediate_axis() {
         }
         assert!((energy(q) - e0).abs() < 1e-6 * e0, "energy drift");
         if should_flip {
-            assert!(min_align < -0.9, "intermediate axis must flip: min alignment {min_align}");
+            assert!(
+                min_align < -0.9,
+                "intermediate axis must flip: min alignment {min_align}"
+            );
         } else {
-            assert!(min_align > 0.999, "stable axis stays: min alignment {min_align}");
+            assert!(
+                min_align > 0.999,
+                "stable axis stays: min alignment {min_align}"
+            );
         }
     }
 }
@@ -150,11 +189,17 @@ fn dzhanibekov_flip_only_about_intermediate_axis() {
 fn spin_stabilises_vc13() {
     let (skip0, _, att_in0, att_out0) = first_contact_axis_turn(&clanet_at_impact(35.0, 0.0));
     assert!(!skip0, "no spin: dives");
-    assert!(att_out0[0] < att_in0[0] - 30.0, "pitches nose-down: {att_in0:?} -> {att_out0:?}");
+    assert!(
+        att_out0[0] < att_in0[0] - 30.0,
+        "pitches nose-down: {att_in0:?} -> {att_out0:?}"
+    );
 
     let (skip65, turn65, att_in, att_out) = first_contact_axis_turn(&clanet_at_impact(35.0, 65.0));
     assert!(skip65, "65 rev/s: skips");
-    assert!(turn65 < 20.0, "axis turns by the precession only: {turn65}° ({att_in:?} -> {att_out:?})");
+    assert!(
+        turn65 < 20.0,
+        "axis turns by the precession only: {turn65}° ({att_in:?} -> {att_out:?})"
+    );
 }
 
 /// The precession angle per contact is angular impulse / (I₃ ω): doubling the spin halves it
@@ -165,7 +210,10 @@ fn precession_per_contact_falls_as_one_over_spin() {
     let (s2, turn2, ..) = first_contact_axis_turn(&clanet_at_impact(20.0, 130.0));
     assert!(s1 && s2);
     let ratio = turn1 / turn2;
-    assert!((ratio - 2.0).abs() < 0.5, "turn {turn1}° at 65 rev/s vs {turn2}° at 130 rev/s: ratio {ratio}");
+    assert!(
+        (ratio - 2.0).abs() < 0.5,
+        "turn {turn1}° at 65 rev/s vs {turn2}° at 130 rev/s: ratio {ratio}"
+    );
 }
 
 /// The spin threshold of VC-13: the smallest spin at which the first contact is a skip. The
@@ -190,7 +238,10 @@ fn spin_threshold_is_about_one_revolution_per_contact() {
     }
     let (_, tau) = skips(hi);
     let revolutions = hi * tau;
-    eprintln!("spin threshold {hi:.1} rev/s, contact {:.1} ms, {revolutions:.2} revolutions per contact", tau * 1e3);
+    eprintln!(
+        "spin threshold {hi:.1} rev/s, contact {:.1} ms, {revolutions:.2} revolutions per contact",
+        tau * 1e3
+    );
     assert!((0.3..3.0).contains(&revolutions), "Ω τ = {revolutions}");
 }
 

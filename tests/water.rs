@@ -169,7 +169,11 @@ fn t2_volume_is_conserved_with_splashes_and_dry_cells() {
         }
         println!("T2 diag={diag}: worst |V − ledger|/V = {worst:.2e}, min depth {min_depth:.2e}");
         assert!(worst <= 1e-12, "volume drift {worst}");
-        assert!(min_depth >= -1e-14, "negative depth {min_depth}");
+        // K leaves at most rounding below zero: 8 ulps of the deepest column (< 4 m here).
+        assert!(
+            min_depth >= -8.0 * f64::EPSILON * 4.0,
+            "negative depth {min_depth}"
+        );
     }
 }
 
@@ -372,8 +376,11 @@ fn blows_up(diag: bool, n: usize, r: f64) -> bool {
     let e0 = w.max_abs_eta();
     for s in 0..3000 {
         w.step();
-        if s % 10 == 0 && !(w.max_abs_eta() < 100.0 * e0) {
-            return true;
+        if s % 10 == 0 {
+            let e = w.max_abs_eta();
+            if e.is_nan() || e >= 100.0 * e0 {
+                return true;
+            }
         }
     }
     false

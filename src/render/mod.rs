@@ -49,7 +49,8 @@ pub enum RenderError {
 
 /// Number of ticks of `dt` that reach simulated time `time` (the same count the app runs).
 pub fn ticks_until(time: f64, dt: f64) -> u64 {
-    if !(time > 0.0) || !(dt > 0.0) {
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !positive(time) || !positive(dt) {
         return 0;
     }
     (time / dt - 1e-6).ceil().max(0.0) as u64

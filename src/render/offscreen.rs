@@ -21,6 +21,11 @@ pub struct Offscreen {
 impl Offscreen {
     /// Finds an adapter and builds the renderer (4× MSAA where the adapter offers it).
     pub fn new() -> Result<Self, RenderError> {
+        Self::with_samples(4)
+    }
+
+    /// Like [`Offscreen::new`] with at most `max_samples` MSAA samples (1 turns it off).
+    pub fn with_samples(max_samples: u32) -> Result<Self, RenderError> {
         let gpu = Gpu::headless()?;
         let flags = gpu
             .adapter
@@ -30,7 +35,10 @@ impl Offscreen {
             .adapter
             .get_texture_format_features(super::renderer::DEPTH_FORMAT)
             .flags;
-        let samples = if flags.sample_count_supported(4) && depth_flags.sample_count_supported(4) {
+        let samples = if max_samples >= 4
+            && flags.sample_count_supported(4)
+            && depth_flags.sample_count_supported(4)
+        {
             4
         } else {
             1

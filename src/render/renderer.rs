@@ -617,20 +617,22 @@ impl SceneRenderer {
         pass.set_scissor_rect(vp.x as u32, vp.y as u32, vp.width as u32, vp.height as u32);
         pass.set_bind_group(0, &self.globals_bind, &[]);
 
+        if std::env::var("SKIP_SKY").is_err() {
         pass.set_pipeline(&self.sky);
         pass.draw(0..3, 0..1);
+        }
 
         let water_bind = match &self.water {
             Some(w) if scene.water.is_some() => &w.water_bind,
             _ => &self.flat_water_bind,
         };
-        if let (Some(w), true) = (&self.water, scene.water.is_some()) {
+        if let (Some(w), true, false) = (&self.water, scene.water.is_some(), std::env::var("SKIP_GRID").is_ok()) {
             pass.set_pipeline(&self.water_grid);
             pass.set_bind_group(1, &w.water_bind, &[]);
             pass.set_index_buffer(w.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..w.index_count, 0, 0..1);
         }
-        if let Some(far) = &self.far {
+        if let (Some(far), false) = (&self.far, std::env::var("SKIP_FAR").is_ok()) {
             pass.set_pipeline(&self.water_far);
             pass.set_bind_group(1, water_bind, &[]);
             pass.set_vertex_buffer(0, far.vertices.slice(..));
@@ -893,7 +895,7 @@ impl SceneRenderer {
             }],
         });
         let water_bind = water_bind_group(device, &self.water_layout, &prep_view, &self.sampler);
-        let (mx, my) = water_mesh_size(nx, ny);
+        let (mx, my) = match std::env::var("WATER_MESH").ok().and_then(|v| v.parse::<u32>().ok()) { Some(n) => (n, n), None => water_mesh_size(nx, ny) };
         let idx = grid_indices(mx, my);
         let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("water_indices"),

@@ -12,7 +12,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::contact::clip_triangle;
+use super::contact::{clip_triangle, WettedPatch};
 use super::params::{ForceLaw, Physics};
 use super::stone::Stone;
 
@@ -76,6 +76,10 @@ pub trait Surface {
     fn height(&self, x: f64, y: f64) -> f64;
     /// An upper bound of η over the whole surface (for cheap rejection).
     fn max_height(&self) -> f64;
+    /// True when the surface is the plane z = 0 (lets the hot loop skip the height lookups).
+    fn is_flat(&self) -> bool {
+        false
+    }
 }
 
 /// The water at rest: z = 0.
@@ -88,6 +92,9 @@ impl Surface for FlatSurface {
     }
     fn max_height(&self) -> f64 {
         0.0
+    }
+    fn is_flat(&self) -> bool {
+        true
     }
 }
 
@@ -116,6 +123,12 @@ pub struct Pose {
 /// Reusable buffers for force evaluation (no allocation per call).
 #[derive(Debug, Clone, Default)]
 pub struct Scratch {
+    /// Orientation for which `offsets` and `normals` hold (a locked attitude reuses them).
+    cached: Option<DQuat>,
+    /// Vertex positions relative to the centre of mass, world axes.
+    offsets: Vec<DVec3>,
+    /// Outward unit normals, world axes.
+    normals: Vec<DVec3>,
     world: Vec<DVec3>,
     height: Vec<f64>,
     /// (x, y, F_z on the stone) of each loaded face at the last recorded evaluation.
@@ -187,13 +200,29 @@ pub fn evaluate(
     if pose.position.z - stone.bounding_radius > surface.max_height() {
         return sum;
     }
-    let rot = glam::DMat3::from_quat(pose.orientation);
+    if scratch.cached != Some(pose.orientation) {
+        let rot = glam::DMat3::from_quat(pose.orientation);
+        scratch.offsets.clear();
+        scratch
+            .offsets
+            .extend(stone.mesh.positions.iter().map(|&p| rot * p));
+        scratch.normals.clear();
+        scratch
+            .normals
+            .extend(stone.normals.iter().map(|&n| rot * n));
+        scratch.cached = Some(pose.orientation);
+    }
     scratch.world.clear();
     scratch.height.clear();
     let mut any_wet = false;
-    for &p in &stone.mesh.positions {
-        let w = pose.position + rot * p;
-        let d = w.z - surface.height(w.x, w.y);
+    let flat = surface.is_flat();
+    for &o in &scratch.offsets {
+        let w = pose.position + o;
+        let d = if flat {
+            w.z
+        } else {
+            w.z - surface.height(w.x, w.y)
+        };
         any_wet |= d <= 0.0;
         scratch.world.push(w);
         scratch.height.push(d);
@@ -210,13 +239,22 @@ pub fn evaluate(
             continue;
         }
         let p = [scratch.world[a], scratch.world[b], scratch.world[c]];
-        let Some(patch) = clip_triangle(p, d) else {
-            continue;
+        let patch = if d[0] <= 0.0 && d[1] <= 0.0 && d[2] <= 0.0 {
+            // Wholly wet (Fig. 5a): the mesh's own area, no clipping.
+            WettedPatch {
+                area: stone.areas[t],
+                centroid: (p[0] + p[1] + p[2]) * (1.0 / 3.0),
+            }
+        } else {
+            match clip_triangle(p, d) {
+                Some(patch) => patch,
+                None => continue,
+            }
         };
         if patch.area <= 0.0 {
             continue;
         }
-        let normal = rot * stone.normals[t];
+        let normal = scratch.normals[t];
         let r = patch.centroid - pose.position;
         let v = pose.velocity + pose.angular_velocity.cross(r);
         let f = face_force(hp, normal, patch.area, v, speed);

@@ -145,6 +145,9 @@ impl Surface for SurfaceRef<'_> {
             SurfaceRef::Water { max, .. } => *max,
         }
     }
+    fn is_flat(&self) -> bool {
+        matches!(self, SurfaceRef::Flat)
+    }
 }
 
 /// The stone's motion and its bookkeeping (split from [`Simulation`] so the stone can step while
@@ -561,11 +564,9 @@ impl Simulation {
             wetted_area: f.wetted_area,
             force: f.force,
         });
-        if now {
-            if underside_submerged(&self.stone, s.position, s.orientation, &self.surface()) {
-                self.finish(Outcome::Sank);
-                return;
-            }
+        if now && underside_submerged(&self.stone, s.position, s.orientation, &self.surface()) {
+            self.finish(Outcome::Sank);
+            return;
         }
         let left = match &self.water {
             Some(w) => !w.contains(s.position.x, s.position.y),

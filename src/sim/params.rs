@@ -257,7 +257,7 @@ impl Default for Physics {
             integrator: Integrator::Adaptive,
             tolerance: 1e-6,
             rotation: Rotation::Locked,
-            dt: 0.0005,
+            dt: 0.005,
             max_time: 20.0,
         }
     }

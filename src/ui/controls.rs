@@ -9,13 +9,20 @@ use super::{Action, Phase, SimControls, ViewRequest, ViewSettings};
 pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>) {
     let can_throw = c.invalid.is_none();
     if ui
-        .add_enabled(can_throw, egui::Button::new(RichText::new("⏵ Throw").strong()))
+        .add_enabled(
+            can_throw,
+            egui::Button::new(RichText::new("Throw").strong()),
+        )
         .on_hover_text("Space: a new throw from the settings")
         .clicked()
     {
         actions.push(Action::Throw);
     }
-    let pause_label = if c.phase == Phase::Paused { "⏵ Resume" } else { "⏸ Pause" };
+    let pause_label = if c.phase == Phase::Paused {
+        "Resume"
+    } else {
+        "Pause"
+    };
     if ui
         .add_enabled(c.phase != Phase::Ready, egui::Button::new(pause_label))
         .on_hover_text("P")
@@ -24,28 +31,32 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
         actions.push(Action::TogglePause);
     }
     if ui
-        .add_enabled(can_throw || c.phase != Phase::Ready, egui::Button::new("⏭ Step"))
+        .add_enabled(
+            can_throw || c.phase != Phase::Ready,
+            egui::Button::new("Step"),
+        )
         .on_hover_text("S: exactly one tick")
         .clicked()
     {
         actions.push(Action::Step);
     }
     if ui
-        .add_enabled(can_throw, egui::Button::new("⟲ Reset"))
+        .add_enabled(can_throw, egui::Button::new("Reset"))
         .on_hover_text("R: back to the launch point with the current settings")
         .clicked()
     {
         actions.push(Action::Reset);
     }
     if ui
-        .add_enabled(c.can_replay, egui::Button::new("↺ Replay"))
+        .add_enabled(c.can_replay, egui::Button::new("Replay"))
         .on_hover_text("The last throw again, bit for bit")
         .clicked()
     {
         actions.push(Action::Replay);
     }
     ui.separator();
-    ui.label("Speed").on_hover_text("Slow motion: simulated seconds per real second");
+    ui.label("Speed")
+        .on_hover_text("Slow motion: simulated seconds per real second");
     ui.add(
         Slider::new(&mut c.speed, 0.01..=1.0)
             .clamping(SliderClamping::Always)
@@ -63,7 +74,7 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
     ui.monospace(format!("t = {:7.3} s  {state}", c.time));
     if c.dropping_now {
         ui.label(
-            RichText::new(format!("⚠ physics behind real time: {:.2} s skipped", c.dropped_total))
+            RichText::new(format!("physics behind real time: {:.2} s skipped", c.dropped_total))
                 .color(egui::Color32::from_rgb(255, 190, 80)),
         )
         .on_hover_text(
@@ -72,10 +83,15 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
         );
     }
     if c.pending_changes {
-        ui.label(RichText::new("● changes apply on the next throw / reset").color(egui::Color32::from_rgb(150, 200, 255)));
+        ui.label(
+            RichText::new("changes apply on the next throw / reset")
+                .color(egui::Color32::from_rgb(150, 200, 255)),
+        );
     }
     if let Some(why) = &c.invalid {
-        ui.label(RichText::new(format!("✖ {why}")).color(egui::Color32::from_rgb(255, 110, 100)));
+        ui.label(
+            RichText::new(format!("invalid: {why}")).color(egui::Color32::from_rgb(255, 110, 100)),
+        );
     }
 }
 
@@ -96,7 +112,11 @@ pub fn view_ui(ui: &mut Ui, view: &mut ViewSettings, actions: &mut Vec<Action>) 
     {
         actions.push(Action::View(ViewRequest::Side));
     }
-    if ui.button("Frame all").on_hover_text("3: fit the trajectory in view").clicked() {
+    if ui
+        .button("Frame all")
+        .on_hover_text("3: fit the trajectory in view")
+        .clicked()
+    {
         actions.push(Action::View(ViewRequest::FrameAll));
     }
     ui.toggle_value(&mut view.follow, "Follow")
@@ -104,7 +124,11 @@ pub fn view_ui(ui: &mut Ui, view: &mut ViewSettings, actions: &mut Vec<Action>) 
     ui.separator();
     ui.toggle_value(&mut view.show_settings, "Settings");
     ui.toggle_value(&mut view.show_readouts, "Readouts");
-    if ui.button("📷").on_hover_text("Save a screenshot (PNG)").clicked() {
+    if ui
+        .button("Screenshot")
+        .on_hover_text("Save a screenshot (PNG)")
+        .clicked()
+    {
         actions.push(Action::Screenshot);
     }
 }

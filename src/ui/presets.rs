@@ -39,7 +39,11 @@ impl PresetLibrary {
 
     /// Re-reads both directories.
     pub fn refresh(&mut self) {
-        self.shipped = self.shipped_dir.as_deref().map(list_ron).unwrap_or_default();
+        self.shipped = self
+            .shipped_dir
+            .as_deref()
+            .map(list_ron)
+            .unwrap_or_default();
         self.user = self.user_dir.as_deref().map(list_ron).unwrap_or_default();
     }
 
@@ -49,7 +53,9 @@ impl PresetLibrary {
         if stem.is_empty() {
             return None;
         }
-        self.user_dir.as_ref().map(|d| d.join(format!("{stem}.ron")))
+        self.user_dir
+            .as_ref()
+            .map(|d| d.join(format!("{stem}.ron")))
     }
 }
 
@@ -103,7 +109,10 @@ pub fn file_stem_for(name: &str) -> String {
 
 fn preset_list(ui: &mut Ui, files: &[PathBuf], current: Option<&Path>, actions: &mut Vec<Action>) {
     for p in files {
-        let name = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let name = p
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let selected = current == Some(p.as_path());
         if ui
             .selectable_label(selected, name)
@@ -116,7 +125,12 @@ fn preset_list(ui: &mut Ui, files: &[PathBuf], current: Option<&Path>, actions: 
 }
 
 /// The presets panel.
-pub fn presets_ui(ui: &mut Ui, lib: &mut PresetLibrary, can_replay: bool, actions: &mut Vec<Action>) {
+pub fn presets_ui(
+    ui: &mut Ui,
+    lib: &mut PresetLibrary,
+    can_replay: bool,
+    actions: &mut Vec<Action>,
+) {
     ui.label("Shipped");
     ui.indent("shipped", |ui| {
         if lib.shipped.is_empty() {
@@ -127,7 +141,9 @@ pub fn presets_ui(ui: &mut Ui, lib: &mut PresetLibrary, can_replay: bool, action
     ui.label("Yours").on_hover_text(
         lib.user_dir
             .as_ref()
-            .map_or("no user directory (HOME unset)".to_owned(), |d| d.display().to_string()),
+            .map_or("no user directory (HOME unset)".to_owned(), |d| {
+                d.display().to_string()
+            }),
     );
     ui.indent("user", |ui| {
         if lib.user.is_empty() {
@@ -169,7 +185,9 @@ pub fn presets_ui(ui: &mut Ui, lib: &mut PresetLibrary, can_replay: bool, action
         }
         if ui
             .add_enabled(can_replay, egui::Button::new("Replay last throw"))
-            .on_hover_text("Runs the last throw again exactly (the same preset, the same live changes)")
+            .on_hover_text(
+                "Runs the last throw again exactly (the same preset, the same live changes)",
+            )
             .clicked()
         {
             actions.push(Action::Replay);

@@ -109,11 +109,11 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent]) {
                     ui.end_row();
                     for (i, c) in contacts.iter().enumerate() {
                         let mark = if c.open {
-                            "…"
+                            "..."
                         } else if c.skip {
-                            "✔"
+                            "skip"
                         } else {
-                            "✖"
+                            "sank"
                         };
                         ui.label(format!("{} {mark}", i + 1));
                         ui.monospace(format!("{:.3}", c.t_start));
@@ -131,9 +131,24 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent]) {
 pub fn plots_ui(ui: &mut Ui, series: &PlotSeries, now: f64) {
     let link = egui::Id::unique("stoneskip_plots_x");
     let plots: [(&str, &str, &[PlotPoint], egui::Color32); 3] = [
-        ("height", "z (m)", &series.height, egui::Color32::from_rgb(120, 200, 255)),
-        ("speed", "|v| (m/s)", &series.speed, egui::Color32::from_rgb(255, 200, 90)),
-        ("wetted", "wet (cm²)", &series.area, egui::Color32::from_rgb(140, 230, 140)),
+        (
+            "height",
+            "z (m)",
+            &series.height,
+            egui::Color32::from_rgb(120, 200, 255),
+        ),
+        (
+            "speed",
+            "|v| (m/s)",
+            &series.speed,
+            egui::Color32::from_rgb(255, 200, 90),
+        ),
+        (
+            "wetted",
+            "wet (cm²)",
+            &series.area,
+            egui::Color32::from_rgb(140, 230, 140),
+        ),
     ];
     for (id, label, data, color) in plots {
         ui.label(RichText::new(label).small());
@@ -155,14 +170,38 @@ pub fn plots_ui(ui: &mut Ui, series: &PlotSeries, now: f64) {
 
 /// Where the frame time goes.
 pub fn timing_ui(ui: &mut Ui, t: &FrameTiming, adapter: &str) {
-    let fps = if t.frame_ms > 0.0 { 1000.0 / t.frame_ms } else { 0.0 };
+    let fps = if t.frame_ms > 0.0 {
+        1000.0 / t.frame_ms
+    } else {
+        0.0
+    };
     ui.label(RichText::new(format!("{fps:.0} fps ({:.1} ms a frame)", t.frame_ms)).strong());
     let total = t.frame_ms.max(1e-6);
     for (name, ms, color, tip) in [
-        ("physics", t.physics_ms, egui::Color32::from_rgb(255, 200, 90), "Stone ticks: integration, contact, forces"),
-        ("water", t.water_ms, egui::Color32::from_rgb(120, 200, 255), "Water grid steps, and copying η to the GPU"),
-        ("render", t.render_ms, egui::Color32::from_rgb(200, 150, 255), "Scene and panels drawn, submitted, presented"),
-        ("panels", t.ui_ms, egui::Color32::from_rgb(160, 160, 160), "Building the panels (egui)"),
+        (
+            "physics",
+            t.physics_ms,
+            egui::Color32::from_rgb(255, 200, 90),
+            "Stone ticks: integration, contact, forces",
+        ),
+        (
+            "water",
+            t.water_ms,
+            egui::Color32::from_rgb(120, 200, 255),
+            "Water grid steps, and copying η to the GPU",
+        ),
+        (
+            "render",
+            t.render_ms,
+            egui::Color32::from_rgb(200, 150, 255),
+            "Scene and panels drawn, submitted, presented",
+        ),
+        (
+            "panels",
+            t.ui_ms,
+            egui::Color32::from_rgb(160, 160, 160),
+            "Building the panels (egui)",
+        ),
     ] {
         ui.horizontal(|ui| {
             ui.label(format!("{name:8}")).on_hover_text(tip);

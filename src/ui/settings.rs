@@ -5,8 +5,8 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    ForceLaw, Integrator, Launch, Limiter, Physics, Rotation, Shape, StoneParams, Swell, WaterParams,
-    MAX_WATER_COLUMNS,
+    ForceLaw, Integrator, Launch, Limiter, Physics, Rotation, Shape, StoneParams, Swell,
+    WaterParams, MAX_WATER_COLUMNS,
 };
 
 use super::ViewSettings;
@@ -64,9 +64,12 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
             "Angle of the launch velocity above the horizontal (negative: thrown downwards)",
             |ui| ui.add(slider(&mut elevation, -60.0..=45.0).suffix("°")),
         );
-        velocity_changed |= row(ui, "Heading", "Direction of the throw, from +x towards +y", |ui| {
-            ui.add(slider(&mut heading, -90.0..=90.0).suffix("°"))
-        });
+        velocity_changed |= row(
+            ui,
+            "Heading",
+            "Direction of the throw, from +x towards +y",
+            |ui| ui.add(slider(&mut heading, -90.0..=90.0).suffix("°")),
+        );
         let att = &mut launch.attitude;
         c |= row(
             ui,
@@ -77,21 +80,40 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
         c |= row(ui, "Bank", "Attitude: roll about the throw axis", |ui| {
             ui.add(slider(&mut att.bank_deg, -60.0..=60.0).suffix("°"))
         });
-        c |= row(ui, "Turn", "Attitude: the stone's heading about the vertical", |ui| {
-            ui.add(slider(&mut att.heading_deg, -180.0..=180.0).suffix("°"))
-        });
+        c |= row(
+            ui,
+            "Turn",
+            "Attitude: the stone's heading about the vertical",
+            |ui| ui.add(slider(&mut att.heading_deg, -180.0..=180.0).suffix("°")),
+        );
         spin_changed |= row(
             ui,
             "Spin",
             "Spin about the stone's axis (stored in rad/s); it steadies a free stone",
             |ui| ui.add(slider(&mut spin_rev, -75.0..=75.0).suffix(" rev/s")),
         );
-        ui.label("Position").on_hover_text("Centre of mass at launch (m); z is the height above the water");
+        ui.label("Position")
+            .on_hover_text("Centre of mass at launch (m); z is the height above the water");
         let p = &mut launch.position;
         let r = ui.horizontal(|ui| {
-            let a = ui.add(egui::DragValue::new(&mut p[0]).range(-50.0..=50.0).speed(0.05).prefix("x "));
-            let b = ui.add(egui::DragValue::new(&mut p[1]).range(-50.0..=50.0).speed(0.05).prefix("y "));
-            let z = ui.add(egui::DragValue::new(&mut p[2]).range(0.0..=5.0).speed(0.01).prefix("z "));
+            let a = ui.add(
+                egui::DragValue::new(&mut p[0])
+                    .range(-50.0..=50.0)
+                    .speed(0.05)
+                    .prefix("x "),
+            );
+            let b = ui.add(
+                egui::DragValue::new(&mut p[1])
+                    .range(-50.0..=50.0)
+                    .speed(0.05)
+                    .prefix("y "),
+            );
+            let z = ui.add(
+                egui::DragValue::new(&mut p[2])
+                    .range(0.0..=5.0)
+                    .speed(0.01)
+                    .prefix("z "),
+            );
             a.changed() || b.changed() || z.changed()
         });
         c |= r.inner;
@@ -117,7 +139,11 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
         });
     if velocity_changed {
         let (e, h) = (elevation.to_radians(), heading.to_radians());
-        launch.velocity = [speed * e.cos() * h.cos(), speed * e.cos() * h.sin(), speed * e.sin()];
+        launch.velocity = [
+            speed * e.cos() * h.cos(),
+            speed * e.cos() * h.sin(),
+            speed * e.sin(),
+        ];
         changed = true;
     }
     if spin_changed {
@@ -164,7 +190,12 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
                 ),
             ];
             for (name, tip, shape) in options {
-                if ui.selectable_label(kind == name, name).on_hover_text(tip).clicked() && kind != name {
+                if ui
+                    .selectable_label(kind == name, name)
+                    .on_hover_text(tip)
+                    .clicked()
+                    && kind != name
+                {
                     stone.shape = shape;
                     changed = true;
                 }
@@ -194,22 +225,38 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
                 c |= row(ui, "Length", "Along the stone's x axis", |ui| {
                     ui.add(slider(length, 0.02..=0.6).suffix(" m"))
                 });
-                c |= row(ui, "Width", "Across", |ui| ui.add(slider(width, 0.02..=0.6).suffix(" m")));
+                c |= row(ui, "Width", "Across", |ui| {
+                    ui.add(slider(width, 0.02..=0.6).suffix(" m"))
+                });
                 c |= row(ui, "Thickness", "Plate thickness", |ui| {
                     ui.add(slider(thickness, 0.001..=0.1).suffix(" m"))
                 });
             }
         }
-        c |= row(ui, "Mass", "Mass (the inertia follows from the mesh)", |ui| {
-            ui.add(slider(&mut stone.mass, 0.005..=3.0).logarithmic(true).suffix(" kg"))
-        });
-        c |= row(ui, "Mesh", "Rim resolution: segments around the stone", |ui| {
-            ui.add(
-                Slider::new(&mut stone.segments, 8..=128)
-                    .clamping(SliderClamping::Always)
-                    .suffix(" segments"),
-            )
-        });
+        c |= row(
+            ui,
+            "Mass",
+            "Mass (the inertia follows from the mesh)",
+            |ui| {
+                ui.add(
+                    slider(&mut stone.mass, 0.005..=3.0)
+                        .logarithmic(true)
+                        .suffix(" kg"),
+                )
+            },
+        );
+        c |= row(
+            ui,
+            "Mesh",
+            "Rim resolution: segments around the stone",
+            |ui| {
+                ui.add(
+                    Slider::new(&mut stone.segments, 8..=128)
+                        .clamping(SliderClamping::Always)
+                        .suffix(" segments"),
+                )
+            },
+        );
         c
     });
     changed
@@ -241,8 +288,22 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         ui.end_row();
         c |= before != physics.force_law;
         let (dl, df) = physics.force_law.default_coefficients();
-        c |= coefficient_row(ui, "C_l", "Lift (pressure) coefficient", &mut physics.lift_coefficient, dl, 0.0..=5.0);
-        c |= coefficient_row(ui, "C_f", "Friction coefficient", &mut physics.friction_coefficient, df, 0.0..=2.0);
+        c |= coefficient_row(
+            ui,
+            "C_l",
+            "Lift (pressure) coefficient",
+            &mut physics.lift_coefficient,
+            dl,
+            0.0..=5.0,
+        );
+        c |= coefficient_row(
+            ui,
+            "C_f",
+            "Friction coefficient",
+            &mut physics.friction_coefficient,
+            df,
+            0.0..=2.0,
+        );
         ui.label("Ventilated").on_hover_text(
             "Pressure and friction only on faces advancing into the water (the rear sits in an air cavity)",
         );
@@ -260,11 +321,16 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         ui.end_row();
         c |= before != physics.integrator;
         if physics.integrator == Integrator::Adaptive {
-            c |= row(ui, "Tolerance", "Adaptive's relative error per step", |ui| {
-                ui.add(slider(&mut physics.tolerance, 1e-10..=1e-3).logarithmic(true))
-            });
+            c |= row(
+                ui,
+                "Tolerance",
+                "Adaptive's relative error per step",
+                |ui| ui.add(slider(&mut physics.tolerance, 1e-10..=1e-3).logarithmic(true)),
+            );
         }
-        ui.label("Rotation").on_hover_text("Locked: attitude held (the paper). Free: a rigid body with spin and torque.");
+        ui.label("Rotation").on_hover_text(
+            "Locked: attitude held (the paper). Free: a rigid body with spin and torque.",
+        );
         let before = physics.rotation;
         ui.horizontal(|ui| {
             ui.radio_value(&mut physics.rotation, Rotation::Locked, "Locked");
@@ -272,13 +338,18 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         });
         ui.end_row();
         c |= before != physics.rotation;
-        c |= row(ui, "Time step", "The tick: fixed step (Adaptive's upper bound)", |ui| {
-            ui.add(
-                slider(&mut physics.dt, 5e-5..=0.02)
-                    .logarithmic(true)
-                    .custom_formatter(|v, _| format!("{:.3} ms", v * 1000.0)),
-            )
-        });
+        c |= row(
+            ui,
+            "Time step",
+            "The tick: fixed step (Adaptive's upper bound)",
+            |ui| {
+                ui.add(
+                    slider(&mut physics.dt, 5e-5..=0.02)
+                        .logarithmic(true)
+                        .custom_formatter(|v, _| format!("{:.3} ms", v * 1000.0)),
+                )
+            },
+        );
         c |= row(ui, "Max time", "The run ends (timeout) here", |ui| {
             ui.add(slider(&mut physics.max_time, 1.0..=120.0).suffix(" s"))
         });
@@ -334,20 +405,43 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
     changed |= grid(ui, "water", |ui| {
         let mut c = false;
         c |= row(ui, "Length", "Extent of the grid along x", |ui| {
-            ui.add(slider(&mut water.size[0], 2.0..=200.0).logarithmic(true).suffix(" m"))
+            ui.add(
+                slider(&mut water.size[0], 2.0..=200.0)
+                    .logarithmic(true)
+                    .suffix(" m"),
+            )
         });
         c |= row(ui, "Width", "Extent of the grid along y", |ui| {
-            ui.add(slider(&mut water.size[1], 2.0..=200.0).logarithmic(true).suffix(" m"))
+            ui.add(
+                slider(&mut water.size[1], 2.0..=200.0)
+                    .logarithmic(true)
+                    .suffix(" m"),
+            )
         });
         // Cells: at least 4 across, at most MAX_WATER_COLUMNS in all.
         let area = water.size[0] * water.size[1];
         let min_cell = ((area / MAX_WATER_COLUMNS as f64).sqrt() * 1.02).max(0.005);
-        let max_cell = (water.size[0].min(water.size[1]) / 4.5).min(1.0).max(min_cell);
-        c |= row(ui, "Cell", "Column size: finer shows smaller ripples, costs more", |ui| {
-            ui.add(slider(&mut water.cell, min_cell..=max_cell).logarithmic(true).suffix(" m"))
-        });
+        let max_cell = (water.size[0].min(water.size[1]) / 4.5)
+            .min(1.0)
+            .max(min_cell);
+        c |= row(
+            ui,
+            "Cell",
+            "Column size: finer shows smaller ripples, costs more",
+            |ui| {
+                ui.add(
+                    slider(&mut water.cell, min_cell..=max_cell)
+                        .logarithmic(true)
+                        .suffix(" m"),
+                )
+            },
+        );
         c |= row(ui, "Depth", "Rest depth H: wave speed √(gH)", |ui| {
-            ui.add(slider(&mut water.depth, 0.02..=5.0).logarithmic(true).suffix(" m"))
+            ui.add(
+                slider(&mut water.depth, 0.02..=5.0)
+                    .logarithmic(true)
+                    .suffix(" m"),
+            )
         });
         c |= row(ui, "Damping", "Per second", |ui| {
             ui.add(slider(&mut water.damping, 0.0..=5.0).suffix(" 1/s"))
@@ -364,7 +458,11 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
         egui::ComboBox::from_id_salt("limiter")
             .selected_text(format!("{:?}", water.limiter))
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut water.limiter, Limiter::MassConserving, "MassConserving");
+                ui.selectable_value(
+                    &mut water.limiter,
+                    Limiter::MassConserving,
+                    "MassConserving",
+                );
                 ui.selectable_value(&mut water.limiter, Limiter::PaperClamp, "PaperClamp");
             });
         ui.end_row();
@@ -384,11 +482,18 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
                 ui.add(slider(&mut s.amplitude, 0.0..=(0.5 * depth).min(0.3)).suffix(" m"))
             });
             c |= row(ui, "Wavelength", "", |ui| {
-                ui.add(slider(&mut s.wavelength, 0.2..=30.0).logarithmic(true).suffix(" m"))
+                ui.add(
+                    slider(&mut s.wavelength, 0.2..=30.0)
+                        .logarithmic(true)
+                        .suffix(" m"),
+                )
             });
-            c |= row(ui, "Direction", "The swell travels this way, from +x", |ui| {
-                ui.add(slider(&mut s.heading_deg, -180.0..=180.0).suffix("°"))
-            });
+            c |= row(
+                ui,
+                "Direction",
+                "The swell travels this way, from +x",
+                |ui| ui.add(slider(&mut s.heading_deg, -180.0..=180.0).suffix("°")),
+            );
             c
         });
         if s.amplitude > 0.5 * depth {
@@ -402,11 +507,15 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
 /// What the view draws besides the physics.
 pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
     ui.checkbox(&mut view.show_trail, "Trajectory trail");
-    ui.checkbox(&mut view.show_markers, "Contact markers (green: skip, red: sank)");
+    ui.checkbox(
+        &mut view.show_markers,
+        "Contact markers (green: skip, red: sank)",
+    );
     ui.checkbox(&mut view.show_splashes, "Splash cues");
     ui.horizontal(|ui| {
-        ui.label("Ripple contrast")
-            .on_hover_text("Multiplies the water's slopes in the shading only (1 = true to the simulation)");
+        ui.label("Ripple contrast").on_hover_text(
+            "Multiplies the water's slopes in the shading only (1 = true to the simulation)",
+        );
         ui.add(
             Slider::new(&mut view.ripple_gain, 0.0..=5.0)
                 .clamping(SliderClamping::Always)
