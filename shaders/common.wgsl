@@ -13,9 +13,10 @@ struct Globals {
     viewport: vec4<f32>,
     // Water grid: origin.x, origin.y (its −x, −y corner), size.x, size.y (m).
     water_rect: vec4<f32>,
-    // Water mesh vertices per row, per column; normal gain; 1 when the grid exists.
+    // Projected water grid: vertices across, down; slope gain; 1 when a simulated grid exists.
     water_mesh: vec4<f32>,
-    // x: 1 to encode sRGB in the shader (non-sRGB target); y: fog distance (m); z: stone radius (m).
+    // x: 1 to encode sRGB in the shader (non-sRGB target); y: fog distance (m); z: stone radius (m);
+    // w: NDC height of the horizon.
     options: vec4<f32>,
 };
 

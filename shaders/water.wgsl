@@ -1,7 +1,8 @@
-// The water: the simulated grid as a height-field mesh displaced in the vertex shader, and a flat
-// plane to the horizon around it. Normals come from the prepared gradient texture per pixel; the
-// shading is a Fresnel mix of the water body and the reflected sky, a sun highlight, fine
-// procedural wind ripples (the water's texture) and haze towards the horizon.
+// The water: a projected grid — a mesh fixed in screen space, from the bottom of the view up to
+// the horizon, whose vertices are cast onto the plane z = 0 and displaced by the simulated height
+// η there (inside the grid; flat water beyond it, out to the horizon). Normals come from the
+// prepared slope texture per pixel; the shading is a Fresnel mix of the water body and the
+// reflected sky, a sun highlight, fine procedural wind ripples (the water's texture) and haze.
 
 @group(1) @binding(0) var prep_tex: texture_2d<f32>;
 @group(1) @binding(1) var prep_samp: sampler;
@@ -9,33 +10,53 @@
 struct WaterOut {
     @builtin(position) pos: vec4<f32>,
     @location(0) world: vec3<f32>,
-    @location(1) uv: vec2<f32>,
 };
 
-@vertex
-fn vs_grid(@builtin(vertex_index) vi: u32) -> WaterOut {
-    let mx = u32(g.water_mesh.x);
-    let my = u32(g.water_mesh.y);
-    let ix = vi % mx;
-    let iy = vi / mx;
-    let uv = vec2<f32>(f32(ix) / f32(mx - 1u), f32(iy) / f32(my - 1u));
-    let xy = g.water_rect.xy + uv * g.water_rect.zw;
-    let eta = textureSampleLevel(prep_tex, prep_samp, uv, 0.0).z;
-    let world = vec3<f32>(xy, eta);
-    var out: WaterOut;
-    out.pos = g.clip_from_world * vec4<f32>(world, 1.0);
-    out.world = world;
-    out.uv = uv;
-    return out;
+// Farthest water drawn (m): the haze has swallowed everything by then.
+const WATER_FAR: f32 = 8000.0;
+
+// Texture coordinate of a world point on the grid (outside [0, 1]: beyond it).
+fn grid_uv(xy: vec2<f32>) -> vec2<f32> {
+    return (xy - g.water_rect.xy) / max(g.water_rect.zw, vec2<f32>(1e-6));
+}
+
+fn on_grid(uv: vec2<f32>) -> bool {
+    return g.water_mesh.w > 0.5 && all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
+}
+
+// 1 inside the grid, falling to 0 over its outermost 0.3 m, so it meets the flat water seamlessly.
+fn edge_fade(uv: vec2<f32>) -> f32 {
+    let d = min(min(uv.x, 1.0 - uv.x) * g.water_rect.z, min(uv.y, 1.0 - uv.y) * g.water_rect.w);
+    return smoothstep(0.0, 0.3, d);
 }
 
 @vertex
-fn vs_far(@location(0) p: vec3<f32>) -> WaterOut {
+fn vs_water(@builtin(vertex_index) vi: u32) -> WaterOut {
+    let mx = u32(g.water_mesh.x);
+    let my = u32(g.water_mesh.y);
+    let fx = f32(vi % mx) / f32(mx - 1u);
+    let fy = f32(vi / mx) / f32(my - 1u);
+    // Rows from just below the view up to the horizon (options.w), a margin left and right.
+    let top = min(g.options.w, 1.05);
+    let ndc = vec2<f32>(mix(-1.05, 1.05, fx), mix(-1.05, top, fy));
+    let dir = view_ray(ndc);
+    let eye = g.camera_pos.xyz;
+    var xy: vec2<f32>;
+    if (dir.z < -1e-6 && eye.z / -dir.z < WATER_FAR) {
+        xy = eye.xy + dir.xy * (eye.z / -dir.z);
+    } else {
+        // At or above the horizon: the far rim of the water, straight out.
+        xy = eye.xy + normalize(dir.xy + vec2<f32>(1e-9, 0.0)) * WATER_FAR;
+    }
+    var z = 0.0;
+    let uv = grid_uv(xy);
+    if (on_grid(uv)) {
+        z = textureSampleLevel(prep_tex, prep_samp, uv, 0.0).z * edge_fade(uv);
+    }
+    let world = vec3<f32>(xy, z);
     var out: WaterOut;
-    out.pos = g.clip_from_world * vec4<f32>(p, 1.0);
-    out.world = p;
-    // Outside [0, 1]: no simulated gradient.
-    out.uv = vec2<f32>(-1.0, -1.0);
+    out.pos = g.clip_from_world * vec4<f32>(world, 1.0);
+    out.world = world;
     return out;
 }
 
@@ -59,12 +80,10 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     let v = to_eye / max(dist, 1e-6);
     var slope = vec2<f32>(0.0);
     var eta = 0.0;
-    let inside = all(in.uv >= vec2<f32>(0.0)) && all(in.uv <= vec2<f32>(1.0)) && g.water_mesh.w > 0.5;
-    if (inside) {
-        let s = textureSampleLevel(prep_tex, prep_samp, in.uv, 0.0);
-        // Fade to flat over the outermost cells so the grid meets the far plane without a seam.
-        let edge = min(min(in.uv.x, 1.0 - in.uv.x) * g.water_rect.z, min(in.uv.y, 1.0 - in.uv.y) * g.water_rect.w);
-        let w = smoothstep(0.0, 0.3, edge);
+    let uv = grid_uv(in.world.xy);
+    if (on_grid(uv)) {
+        let s = textureSampleLevel(prep_tex, prep_samp, uv, 0.0);
+        let w = edge_fade(uv);
         slope = s.xy * g.water_mesh.z * w;
         eta = s.z * w;
     }
@@ -77,7 +96,7 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     let fresnel = 0.02 + 0.98 * pow(1.0 - ndv, 5.0);
     var r = reflect(-v, n);
     r.z = abs(r.z);
-    let reflected = vec3<f32>(0.5);
+    let reflected = sky_base(r);
 
     // Water body: deep blue-green, a little light scattered from the sun, brighter on crests.
     let deep = vec3<f32>(0.012, 0.045, 0.060);
@@ -95,6 +114,6 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     // Haze towards the horizon.
     let fog = 1.0 - exp(-dist / g.options.y);
     let flat_dir = normalize(vec3<f32>(-v.xy, 0.02));
-    c = mix(c, vec3<f32>(0.5), fog);
+    c = mix(c, sky_base(flat_dir), fog);
     return vec4<f32>(finish(c), 1.0);
 }

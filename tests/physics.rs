@@ -87,18 +87,10 @@ fn plate_converges_to_bocquet_2d() {
                 "duration {d3} vs {}",
                 c2.duration()
             );
-            assert!(
-                rel(c3.v_out[0], c2.v_out[0]) < 0.01,
-                "vx out {:?} vs {:?}",
-                c3.v_out,
-                c2.v_out
-            );
-            assert!(
-                rel(c3.v_out[2], c2.v_out[1]) < 0.01,
-                "vz out {:?} vs {:?}",
-                c3.v_out,
-                c2.v_out
-            );
+            // The exit velocity as a vector, relative to its size.
+            let dv = (c3.v_out[0] - c2.v_out[0]).hypot(c3.v_out[2] - c2.v_out[1]);
+            let v2 = c2.v_out[0].hypot(c2.v_out[1]);
+            assert!(dv / v2 < 0.01, "v out {:?} vs {:?}", c3.v_out, c2.v_out);
             assert!(
                 c3.v_out[1].abs() < 1e-9,
                 "no sideways force on a symmetric plate"

@@ -1,6 +1,6 @@
-//! Geometry for the GPU: the stone's vertices with smooth normals split at creases, the water grid's
-//! triangle indices and the far water plane around the grid. All of it is built once per stone or
-//! grid, never per frame.
+//! Geometry for the GPU: the stone's vertices with smooth normals split at creases, and the
+//! triangle indices of the projected water grid. Built once per stone or viewport size, never per
+//! frame.
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
@@ -77,19 +77,6 @@ pub fn mesh_key(mesh: &Mesh) -> u64 {
     h
 }
 
-/// Water mesh size (vertices per row, per column) for a grid of `nx` × `ny` columns: one vertex per
-/// column up to [`MAX_WATER_VERTICES`] in all; coarser beyond (the shading stays per pixel).
-pub fn water_mesh_size(nx: usize, ny: usize) -> (u32, u32) {
-    let (nx, ny) = (nx.max(2) as f64, ny.max(2) as f64);
-    let scale = ((MAX_WATER_VERTICES as f64) / (nx * ny)).sqrt().min(1.0);
-    let mx = (nx * scale).round().max(2.0) as u32;
-    let my = (ny * scale).round().max(2.0) as u32;
-    (mx, my)
-}
-
-/// Most vertices of the water mesh.
-pub const MAX_WATER_VERTICES: usize = 2_048;
-
 /// Triangle indices of an `mx` × `my` vertex grid (vertex index = iy * mx + ix).
 pub fn grid_indices(mx: u32, my: u32) -> Vec<u32> {
     let mut idx = Vec::with_capacity(6 * (mx.saturating_sub(1) * my.saturating_sub(1)) as usize);
@@ -103,40 +90,6 @@ pub fn grid_indices(mx: u32, my: u32) -> Vec<u32> {
         }
     }
     idx
-}
-
-/// Half-width of the far water plane (m): the horizon's haze hides its edge.
-pub const FAR_PLANE: f32 = 6000.0;
-
-/// The far water plane: a square frame around the rectangle [lo, hi] (z = 0), or a whole square
-/// when `lo == hi`. Returns (vertices, indices), counter-clockwise seen from above.
-pub fn far_plane(lo: [f32; 2], hi: [f32; 2]) -> (Vec<[f32; 3]>, Vec<u32>) {
-    let cx = 0.5 * (lo[0] + hi[0]);
-    let cy = 0.5 * (lo[1] + hi[1]);
-    let r = FAR_PLANE;
-    let outer = [
-        [cx - r, cy - r],
-        [cx + r, cy - r],
-        [cx + r, cy + r],
-        [cx - r, cy + r],
-    ];
-    let inner = [
-        [lo[0], lo[1]],
-        [hi[0], lo[1]],
-        [hi[0], hi[1]],
-        [lo[0], hi[1]],
-    ];
-    let mut v: Vec<[f32; 3]> = outer.iter().map(|p| [p[0], p[1], 0.0]).collect();
-    v.extend(inner.iter().map(|p| [p[0], p[1], 0.0]));
-    let mut idx = Vec::with_capacity(24);
-    for k in 0..4u32 {
-        let o0 = k;
-        let o1 = (k + 1) % 4;
-        let i0 = 4 + k;
-        let i1 = 4 + (k + 1) % 4;
-        idx.extend_from_slice(&[o0, o1, i1, o0, i1, i0]);
-    }
-    (v, idx)
 }
 
 #[cfg(test)]
@@ -181,12 +134,9 @@ mod tests {
     }
 
     #[test]
-    fn grid_and_far_plane_sizes() {
-        assert_eq!(grid_indices(3, 2).len(), 12);
-        assert_eq!(water_mesh_size(100, 50), (100, 50));
-        let (mx, my) = water_mesh_size(4000, 1000);
-        assert!((mx * my) as usize <= MAX_WATER_VERTICES + 4000);
-        let (v, i) = far_plane([0.0, 0.0], [1.0, 1.0]);
-        assert_eq!((v.len(), i.len()), (8, 24));
+    fn grid_indices_cover_every_cell() {
+        let idx = grid_indices(3, 2);
+        assert_eq!(idx.len(), 12);
+        assert!(idx.iter().all(|&i| i < 6));
     }
 }

@@ -67,6 +67,11 @@ impl Offscreen {
         &self.gpu
     }
 
+    /// The scene renderer (for its quality settings).
+    pub fn renderer_mut(&mut self) -> &mut SceneRenderer {
+        &mut self.renderer
+    }
+
     /// Draws `scene` at `width` × `height` and returns the picture.
     pub fn render(
         &mut self,

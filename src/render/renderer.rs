@@ -1,17 +1,21 @@
 //! The scene renderer: draws a [`Scene`] into any colour target (the window's surface or an
-//! offscreen texture) with wgpu — sky, water (height field from an R32Float texture of η, normals
-//! on the GPU), far water plane, stone, trail, contact markers, shadow and splash cues.
+//! offscreen texture) with wgpu — sky, water, stone, trail, contact markers, shadow and splash cues.
 //!
-//! Per frame the CPU writes a few hundred bytes of uniforms and instance data, and copies η into
-//! its texture only when the water has stepped; everything O(grid) beyond that copy runs on the GPU.
+//! The water is a height field: η goes up as an R32Float texture (one texel per column) whenever the
+//! grid has stepped; a GPU pass turns it into slopes; the surface is a *projected grid* (Johanson
+//! 2004) — a mesh fixed in screen space whose vertices the vertex shader casts onto the water plane
+//! and displaces by η there — so it reaches the horizon, spends its vertices where the camera looks,
+//! and never hands the rasteriser the giant near-camera triangles a world-space grid makes (which
+//! software rasterisers pay dearly for). Normals come from the slopes per pixel.
+//!
+//! Per frame the CPU writes a few hundred bytes of uniforms and instance data, and copies η only
+//! when the water has stepped; everything O(grid) beyond that copy runs on the GPU.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
-use super::mesh::{
-    far_plane, grid_indices, mesh_key, stone_vertices, water_mesh_size, StoneVertex,
-};
+use super::mesh::{grid_indices, mesh_key, stone_vertices, StoneVertex};
 use super::scene::{Scene, SPLASH_DURATION};
 
 /// Depth buffer format (reversed: cleared to 0, nearer is greater).
@@ -99,9 +103,6 @@ struct WaterGpu {
     prep_view: wgpu::TextureView,
     prep_input: wgpu::BindGroup,
     water_bind: wgpu::BindGroup,
-    mesh: (u32, u32),
-    indices: wgpu::Buffer,
-    index_count: u32,
     revision: Option<u64>,
     rect: [f32; 4],
 }
@@ -112,9 +113,9 @@ struct StoneGpu {
     count: u32,
 }
 
-struct FarGpu {
-    rect: [f32; 4],
-    vertices: wgpu::Buffer,
+/// The projected grid's triangles (vertex positions come from the vertex index).
+struct ProjectedGrid {
+    size: (u32, u32),
     indices: wgpu::Buffer,
     count: u32,
 }
@@ -180,8 +181,7 @@ pub struct SceneRenderer {
     sampler: wgpu::Sampler,
     sky: wgpu::RenderPipeline,
     prep: wgpu::RenderPipeline,
-    water_grid: wgpu::RenderPipeline,
-    water_far: wgpu::RenderPipeline,
+    water_pipe: wgpu::RenderPipeline,
     stone_pipe: wgpu::RenderPipeline,
     trail_pipe: wgpu::RenderPipeline,
     decal_flat: wgpu::RenderPipeline,
@@ -189,7 +189,8 @@ pub struct SceneRenderer {
     flat_water_bind: wgpu::BindGroup,
     water: Option<WaterGpu>,
     stone: Option<StoneGpu>,
-    far: Option<FarGpu>,
+    grid: Option<ProjectedGrid>,
+    grid_spacing: f32,
     targets: Option<Targets>,
     trail_buf: InstanceBuffer,
     trail_key: Option<(usize, [u32; 3])>,
@@ -403,30 +404,13 @@ impl SceneRenderer {
             targets: &prep_targets,
             ms: wgpu::MultisampleState::default(),
         });
-        let water_grid = make(Desc {
-            label: "water_grid",
+        let water_pipe = make(Desc {
+            label: "water",
             layout: &water_pl,
             module: &water_sh,
-            vs: "vs_grid",
+            vs: "vs_water",
             fs: "fs_water",
             buffers: &[],
-            cull: None,
-            depth: depth(true, C::GreaterEqual),
-            targets: &opaque,
-            ms,
-        });
-        let far_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-        })];
-        let water_far = make(Desc {
-            label: "water_far",
-            layout: &water_pl,
-            module: &water_sh,
-            vs: "vs_far",
-            fs: "fs_water",
-            buffers: &far_buffers,
             cull: None,
             depth: depth(true, C::GreaterEqual),
             targets: &opaque,
@@ -495,7 +479,7 @@ impl SceneRenderer {
             targets: &blended,
             ms,
         });
-        // A flat 1×1 prepared texture for scenes without a grid (the far plane still binds one).
+        // A flat 1×1 prepared texture for scenes without a grid (the water still binds one).
         let flat_prep = device.create_texture_with_data(
             queue,
             &wgpu::TextureDescriptor {
@@ -528,8 +512,7 @@ impl SceneRenderer {
             sampler,
             sky,
             prep,
-            water_grid,
-            water_far,
+            water_pipe,
             stone_pipe,
             trail_pipe,
             decal_flat,
@@ -537,7 +520,8 @@ impl SceneRenderer {
             flat_water_bind,
             water: None,
             stone: None,
-            far: None,
+            grid: None,
+            grid_spacing: GRID_SPACING,
             targets: None,
             trail_buf: InstanceBuffer::new(device, "trail", 64 * 1024),
             trail_key: None,
@@ -570,7 +554,7 @@ impl SceneRenderer {
         self.ensure_targets(device, target_size);
         self.upload_water(device, queue, encoder, scene);
         self.upload_stone(device, scene);
-        self.upload_far(device);
+        self.ensure_grid(device, viewport);
         let globals = self.globals_for(scene, viewport);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         self.upload_trail(device, queue, scene, viewport);
@@ -617,27 +601,19 @@ impl SceneRenderer {
         pass.set_scissor_rect(vp.x as u32, vp.y as u32, vp.width as u32, vp.height as u32);
         pass.set_bind_group(0, &self.globals_bind, &[]);
 
-        if std::env::var("SKIP_SKY").is_err() {
         pass.set_pipeline(&self.sky);
         pass.draw(0..3, 0..1);
-        }
 
         let water_bind = match &self.water {
             Some(w) if scene.water.is_some() => &w.water_bind,
             _ => &self.flat_water_bind,
         };
-        if let (Some(w), true, false) = (&self.water, scene.water.is_some(), std::env::var("SKIP_GRID").is_ok()) {
-            pass.set_pipeline(&self.water_grid);
-            pass.set_bind_group(1, &w.water_bind, &[]);
-            pass.set_index_buffer(w.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..w.index_count, 0, 0..1);
-        }
-        if let (Some(far), false) = (&self.far, std::env::var("SKIP_FAR").is_ok()) {
-            pass.set_pipeline(&self.water_far);
+        // The horizon below the view: no water to draw.
+        if let (Some(grid), true) = (&self.grid, globals.options[3] > -1.5) {
+            pass.set_pipeline(&self.water_pipe);
             pass.set_bind_group(1, water_bind, &[]);
-            pass.set_vertex_buffer(0, far.vertices.slice(..));
-            pass.set_index_buffer(far.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..far.count, 0, 0..1);
+            pass.set_index_buffer(grid.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..grid.count, 0, 0..1);
         }
         let decal_size = std::mem::size_of::<DecalInstance>() as u64;
         if n_flat > 0 {
@@ -727,18 +703,13 @@ impl SceneRenderer {
         };
         let eye = cam.eye();
         let sun = sun_direction();
-        let (rect, mesh) = match (&self.water, &scene.water) {
-            (Some(w), Some(_)) => (
-                w.rect,
-                [
-                    w.mesh.0 as f32,
-                    w.mesh.1 as f32,
-                    scene.style.ripple_gain,
-                    1.0,
-                ],
-            ),
-            _ => ([0.0; 4], [2.0, 2.0, 0.0, 0.0]),
+        let (rect, has_grid) = match (&self.water, &scene.water) {
+            (Some(w), Some(_)) => (w.rect, 1.0),
+            _ => ([0.0; 4], 0.0),
         };
+        let (gx, gy) = self.grid.as_ref().map_or((2, 2), |g| g.size);
+        let mesh = [gx as f32, gy as f32, scene.style.ripple_gain, has_grid];
+        let horizon = horizon_ndc_y(&clip_from_world, eye, cam.yaw);
         Globals {
             clip_from_world: clip_from_world.to_cols_array(),
             world_from_clip: world_from_clip.to_cols_array(),
@@ -757,7 +728,7 @@ impl SceneRenderer {
                 if self.encode_srgb { 1.0 } else { 0.0 },
                 FOG_DISTANCE,
                 radius,
-                0.0,
+                horizon,
             ],
         }
     }
@@ -895,13 +866,6 @@ impl SceneRenderer {
             }],
         });
         let water_bind = water_bind_group(device, &self.water_layout, &prep_view, &self.sampler);
-        let (mx, my) = match std::env::var("WATER_MESH").ok().and_then(|v| v.parse::<u32>().ok()) { Some(n) => (n, n), None => water_mesh_size(nx, ny) };
-        let idx = grid_indices(mx, my);
-        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("water_indices"),
-            contents: bytemuck::cast_slice(&idx),
-            usage: wgpu::BufferUsages::INDEX,
-        });
         WaterGpu {
             grid: (nx, ny),
             stride,
@@ -910,9 +874,6 @@ impl SceneRenderer {
             prep_view,
             prep_input,
             water_bind,
-            mesh: (mx, my),
-            indices,
-            index_count: idx.len() as u32,
             revision: None,
             rect: [0.0; 4],
         }
@@ -943,30 +904,30 @@ impl SceneRenderer {
         });
     }
 
-    fn upload_far(&mut self, device: &wgpu::Device) {
-        let rect = match &self.water {
-            Some(w) if w.revision.is_some() => w.rect,
-            _ => [0.0; 4],
-        };
-        if self.far.as_ref().is_some_and(|f| f.rect == rect) {
+    /// Pixels between the projected water grid's vertices (default [`GRID_SPACING`]; smaller shows
+    /// finer displacement, costs more triangles).
+    pub fn set_grid_spacing(&mut self, pixels: f32) {
+        if pixels.is_finite() {
+            self.grid_spacing = pixels.clamp(2.0, 200.0);
+        }
+    }
+
+    /// The projected grid for a viewport: about one vertex every `grid_spacing` pixels.
+    fn ensure_grid(&mut self, device: &wgpu::Device, vp: Viewport) {
+        let size = projected_grid_size(vp.width, vp.height, self.grid_spacing);
+        if self.grid.as_ref().is_some_and(|g| g.size == size) {
             return;
         }
-        let (v, i) = far_plane([rect[0], rect[1]], [rect[0] + rect[2], rect[1] + rect[3]]);
-        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("far_plane"),
-            contents: bytemuck::cast_slice(&v),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
+        let idx = grid_indices(size.0, size.1);
         let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("far_plane_indices"),
-            contents: bytemuck::cast_slice(&i),
+            label: Some("projected_grid"),
+            contents: bytemuck::cast_slice(&idx),
             usage: wgpu::BufferUsages::INDEX,
         });
-        self.far = Some(FarGpu {
-            rect,
-            vertices,
+        self.grid = Some(ProjectedGrid {
+            size,
             indices,
-            count: i.len() as u32,
+            count: idx.len() as u32,
         });
     }
 
@@ -1030,6 +991,33 @@ fn water_bind_group(
             },
         ],
     })
+}
+
+/// Pixels between neighbouring vertices of the projected water grid.
+pub const GRID_SPACING: f32 = 10.0;
+
+/// Vertices (across, down) of the projected grid for a `width` × `height` viewport, `spacing`
+/// pixels apart.
+pub fn projected_grid_size(width: f32, height: f32, spacing: f32) -> (u32, u32) {
+    let n = |px: f32| ((px / spacing.max(1.0)).ceil() as u32).clamp(8, 800) + 1;
+    (n(width), n(height))
+}
+
+/// NDC height of the horizon (the water plane's vanishing line) seen from `eye`; −2 when it lies
+/// below the view, 2 when above. The camera never rolls, so the horizon is level on screen.
+pub fn horizon_ndc_y(clip_from_world: &Mat4, eye: Vec3, yaw: f32) -> f32 {
+    // A point far away at eye height, straight ahead horizontally, projects onto the horizon.
+    let far = eye + Vec3::new(yaw.cos(), yaw.sin(), 0.0) * 1.0e6;
+    let clip = *clip_from_world * far.extend(1.0);
+    if clip.w <= 0.0 {
+        return 2.0;
+    }
+    let y = clip.y / clip.w;
+    if y.is_finite() {
+        y.clamp(-2.0, 2.0)
+    } else {
+        2.0
+    }
 }
 
 fn clamp_viewport(vp: Viewport, size: (u32, u32)) -> Viewport {

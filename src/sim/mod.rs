@@ -668,18 +668,33 @@ fn adaptive_step(
     }
     let h_min = 1e-10;
     let mut h = m.h_adaptive.min(h_max);
+    let c0 = clear(&s).min(0.0);
+    let mut exit_refinements = 0;
     loop {
         let attempt = step_dp5(dy, &s, &k1, h, tol, &scales, &mut m.scratch);
         m.force_evals += attempt.evals;
         let err = attempt.error;
         if err <= 1.0 || h <= h_min {
+            // Leaving the water inside the step: the force has a kink there, which the error
+            // estimate does not see. Shorten the step to end at the exit (secant on the lowest
+            // vertex's clearance), so no step integrates across it.
+            let c1 = clear(&attempt.state);
+            if c1 > 0.0 && exit_refinements < 3 && h > 64.0 * h_min {
+                let f = -c0 / (c1 - c0);
+                if f < 0.99 {
+                    exit_refinements += 1;
+                    h = (h * f * 1.0001).max(h_min);
+                    continue;
+                }
+            }
             let grow = if err > 0.0 {
                 (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
             } else {
                 5.0
             };
-            // A step clipped by the tick boundary keeps the controller's earlier proposal.
-            let clipped = h >= h_max && m.h_adaptive > h_max;
+            // A step clipped by the tick boundary or shortened to the exit keeps the
+            // controller's earlier proposal.
+            let clipped = (h >= h_max && m.h_adaptive > h_max) || exit_refinements > 0;
             if !clipped || grow < 1.0 {
                 m.h_adaptive = (h * grow).max(h_min);
             }

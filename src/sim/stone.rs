@@ -433,7 +433,10 @@ mod tests {
             );
             last_err = err;
         }
-        assert!(last_err < 1e-3);
+        // Inscribed polygons lose ~(2π/n)²/6 of the area around; the meridian, at the same angular
+        // spacing, loses at most twice that of the volume (its chords are weighted by r²).
+        let bound = (std::f64::consts::TAU / 128.0).powi(2) / 2.0;
+        assert!(last_err < bound, "{last_err} vs {bound}");
     }
 
     #[test]
