@@ -994,7 +994,7 @@ fn water_bind_group(
 }
 
 /// Pixels between neighbouring vertices of the projected water grid.
-pub const GRID_SPACING: f32 = 10.0;
+pub const GRID_SPACING: f32 = 16.0;
 
 /// Vertices (across, down) of the projected grid for a `width` × `height` viewport, `spacing`
 /// pixels apart.

@@ -232,10 +232,16 @@ pub fn evaluate(
     }
     sum.in_contact = true;
     let speed = pose.velocity.length();
+    // Without rotation every face moves with the centre of mass, so a ventilated face receding
+    // from the water (V·N ≤ 0) is known to carry nothing before it is clipped.
+    let cull_receding = hp.ventilated && pose.angular_velocity == DVec3::ZERO;
     for (t, tri) in stone.mesh.triangles.iter().enumerate() {
         let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
         let d = [scratch.height[a], scratch.height[b], scratch.height[c]];
         if d[0] > 0.0 && d[1] > 0.0 && d[2] > 0.0 {
+            continue;
+        }
+        if cull_receding && scratch.normals[t].dot(pose.velocity) <= 0.0 {
             continue;
         }
         let p = [scratch.world[a], scratch.world[b], scratch.world[c]];
