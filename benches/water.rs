@@ -197,7 +197,7 @@ fn summary(counts: &[usize]) {
             if name.starts_with("default") {
                 let rate = 1.0 / w.step_dt();
                 println!(
-                    "    real time needs {rate:.1} steps/s (Δt_w = {:.4} s, r = {:.3}): {:.1} % of {t} core(s)",
+                    "    real time needs {rate:.1} steps/s (Δt_w = {:.4} s, r = {:.3}): {:.1} % of the wall clock on {t} thread(s)",
                     w.step_dt(),
                     w.courant(),
                     100.0 * rate * per_step

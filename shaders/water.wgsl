@@ -24,10 +24,10 @@ fn on_grid(uv: vec2<f32>) -> bool {
     return g.water_mesh.w > 0.5 && all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
 }
 
-// 1 inside the grid, falling to 0 over its outermost 0.3 m, so it meets the flat water seamlessly.
+// 1 inside the grid, falling to 0 over its outermost metre, so it meets the flat water seamlessly.
 fn edge_fade(uv: vec2<f32>) -> f32 {
     let d = min(min(uv.x, 1.0 - uv.x) * g.water_rect.z, min(uv.y, 1.0 - uv.y) * g.water_rect.w);
-    return smoothstep(0.0, 0.3, d);
+    return smoothstep(0.0, 1.0, d);
 }
 
 @vertex
@@ -60,17 +60,13 @@ fn vs_water(@builtin(vertex_index) vi: u32) -> WaterOut {
     return out;
 }
 
-// Slope of the fine wind ripples (the procedural texture of the surface), fading with distance.
+// Slope of the fine wind ripples (the procedural texture of the surface): two octaves of value
+// noise drifting with the simulated time, fading with distance (they would only alias there).
 fn detail_slope(xy: vec2<f32>, t: f32, dist: f32) -> vec2<f32> {
     let fade = 1.0 / (1.0 + dist * 0.08);
-    var s = vec2<f32>(0.0);
-    let a = noise2(xy * 3.1 + vec2<f32>(t * 0.31, t * 0.17));
-    s += a.yz * 3.1 * 0.004;
-    let b = noise2(vec2<f32>(xy.x * 7.3 - xy.y * 2.1, xy.y * 7.3 + xy.x * 2.1) + vec2<f32>(-t * 0.43, t * 0.29));
-    s += b.yz * 7.3 * 0.0018;
+    let a = noise2(vec2<f32>(xy.x * 3.1 - xy.y * 0.9, xy.y * 3.1 + xy.x * 0.9) + vec2<f32>(t * 0.31, t * 0.17));
     let c = noise2(xy * 0.45 + vec2<f32>(t * 0.05, -t * 0.04));
-    s += c.yz * 0.45 * 0.03;
-    return s * fade;
+    return (a.yz * (3.1 * 0.006) + c.yz * (0.45 * 0.03)) * fade;
 }
 
 @fragment
@@ -91,9 +87,10 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     let n = normalize(vec3<f32>(-slope.x, -slope.y, 1.0));
     let sun = g.sun_dir.xyz;
 
-    // Fresnel (Schlick, water F0 = 0.02).
-    let ndv = max(dot(n, v), 0.0);
-    let fresnel = 0.02 + 0.98 * pow(1.0 - ndv, 5.0);
+    // Fresnel (Schlick, water F0 = 0.02), the fifth power by squaring.
+    let m = 1.0 - max(dot(n, v), 0.0);
+    let m2 = m * m;
+    let fresnel = 0.02 + 0.98 * m2 * m2 * m;
     var r = reflect(-v, n);
     r.z = abs(r.z);
     let reflected = sky_base(r);
@@ -102,13 +99,16 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     let deep = vec3<f32>(0.012, 0.045, 0.060);
     let scatter = vec3<f32>(0.02, 0.09, 0.085);
     let lit = max(dot(n, sun), 0.0);
-    var body = deep + scatter * (0.35 + 0.65 * lit) + vec3<f32>(0.05, 0.08, 0.07) * clamp(eta * 40.0, 0.0, 1.0);
+    let body = deep + scatter * (0.35 + 0.65 * lit) + vec3<f32>(0.05, 0.08, 0.07) * clamp(eta * 40.0, 0.0, 1.0);
     var c = mix(body, reflected, fresnel);
 
-    // Sun highlight: a sharp glint and a broad sheen.
+    // Sun highlight: a sharp glint (power 1200) and a broad sheen (power 120).
     let h = normalize(sun + v);
-    let ndh = max(dot(n, h), 0.0);
-    let spec = pow(ndh, 1200.0) * 12.0 + pow(ndh, 120.0) * 0.12;
+    let sheen = pow(max(dot(n, h), 0.0), 120.0);
+    let s2 = sheen * sheen;
+    let s8 = s2 * s2 * s2 * s2;
+    let glint = s8 * s2;
+    let spec = glint * 12.0 + sheen * 0.12;
     c += vec3<f32>(1.0, 0.92, 0.78) * spec * g.sun_dir.w * (0.3 + fresnel);
 
     // Haze towards the horizon.

@@ -49,12 +49,19 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
         Some(p) => (preset::load(p)?, Some(p.clone())),
         None => default_preset(),
     };
-    let model = Model::new(initial, source)?;
+    let mut model = Model::new(initial, source)?;
+    if std::env::var("NOPANELS").is_ok() { model.view.show_settings = false; model.view.show_readouts = false; }
+    if std::env::var("NOREADOUTS").is_ok() { model.view.show_readouts = false; }
+    if std::env::var("STONESKIP_AUTOTHROW").is_ok_and(|v| v == "1") {
+        model.throw();
+    }
     let event_loop = EventLoop::new().map_err(|e| {
+        let why = e.to_string();
         anyhow!(
-            "cannot open a window: {e}. Is a display available (DISPLAY or WAYLAND_DISPLAY)? \
+            "cannot open a window: {}. Is a display available (DISPLAY or WAYLAND_DISPLAY)? \
              Without one, run it under a virtual display: `xvfb-run -a stoneskip gui`, or render a \
-             picture with `stoneskip render --preset FILE --out FILE.png`"
+             picture with `stoneskip render --preset FILE --out FILE.png`",
+            why.trim_end_matches('.')
         )
     })?;
     let mut app = App {
@@ -102,6 +109,8 @@ struct App {
 
 /// The window and everything on the GPU.
 struct Gfx {
+    /// A software rasteriser (llvmpipe, lavapipe): every pixel costs.
+    software: bool,
     window: Arc<Window>,
     surface: wgpu::Surface<'static>,
     gpu: Gpu,
@@ -200,7 +209,8 @@ impl Gfx {
             egui_wgpu::RendererOptions {
                 msaa_samples: 1,
                 depth_stencil_format: None,
-                dithering: true,
+                // Dithering costs per pixel on software rasterisers and 8-bit panels do not band.
+                dithering: false,
                 predictable_texture_filtering: false,
             },
         );
@@ -209,7 +219,9 @@ impl Gfx {
             describe_adapter(&adapter),
             if samples > 1 { ", 4× MSAA" } else { "" }
         );
+        let software = adapter.get_info().device_type == wgpu::DeviceType::Cpu;
         Ok(Self {
+            software,
             window,
             surface,
             gpu: Gpu {
@@ -297,6 +309,18 @@ struct Model {
     frame_physics: f64,
     frame_water: f64,
     frames: u64,
+    stats: FrameStats,
+}
+
+/// Frame time totals (s) for the `--frames` report.
+#[derive(Debug, Clone, Copy, Default)]
+struct FrameStats {
+    frames: u64,
+    wall: f64,
+    physics: f64,
+    water: f64,
+    render: f64,
+    ui: f64,
 }
 
 impl Model {
@@ -340,6 +364,7 @@ impl Model {
             frame_physics: 0.0,
             frame_water: 0.0,
             frames: 0,
+            stats: FrameStats::default(),
         };
         m.start_run();
         Ok(m)
@@ -829,7 +854,15 @@ impl Model {
                             .show(ui, |ui| ui::contacts_ui(ui, self.sim.contacts()));
                         egui::CollapsingHeader::new(egui::RichText::new("Plots").heading())
                             .default_open(true)
-                            .show(ui, |ui| ui::plots_ui(ui, &self.plots, self.sim.time()));
+                            .show(ui, |ui| {
+                                // After the outcome only the water moves: keep the stone's run in view.
+                                let end = if self.sim.is_finished() {
+                                    self.sim.summary().final_time
+                                } else {
+                                    self.sim.time()
+                                };
+                                ui::plots_ui(ui, &self.plots, end)
+                            });
                         egui::CollapsingHeader::new(egui::RichText::new("Frame time").heading())
                             .default_open(true)
                             .show(ui, |ui| ui::timing_ui(ui, &self.timing, adapter));
@@ -1020,26 +1053,49 @@ impl App {
                 0.9 * old + 0.1 * new
             }
         };
+        let continuous =
+            self.frames_limit.is_some() || model.phase == Phase::Running || model.view.follow;
         let t = &mut model.timing;
-        t.frame_ms = smooth(t.frame_ms, 1000.0 * real_dt.max(frame_s));
+        t.frame_ms = smooth(t.frame_ms, 1000.0 * frame_s);
+        if continuous && real_dt > 0.0 {
+            t.interval_ms = smooth(t.interval_ms, 1000.0 * real_dt);
+        }
         t.physics_ms = smooth(t.physics_ms, 1000.0 * model.frame_physics);
         t.water_ms = smooth(t.water_ms, 1000.0 * model.frame_water);
         t.render_ms = smooth(t.render_ms, 1000.0 * render_s);
         t.ui_ms = smooth(t.ui_ms, 1000.0 * ui_s);
+        // Totals past the first frames (shader compilation), for the --frames report.
+        if model.frames >= 10 {
+            let st = &mut model.stats;
+            st.frames += 1;
+            st.wall += real_dt;
+            st.physics += model.frame_physics;
+            st.water += model.frame_water;
+            st.render += render_s;
+            st.ui += ui_s;
+        }
         model.frames += 1;
 
         self.frames_drawn += 1;
         if self.frames_limit.is_some_and(|n| self.frames_drawn >= n) {
             if std::env::var("STONESKIP_FPS_REPORT").is_ok_and(|v| v == "1") {
+                let st = &model.stats;
+                let n = st.frames.max(1) as f64;
                 eprintln!(
-                    "stoneskip: {} frames; smoothed frame {:.2} ms ({:.1} fps): physics {:.2} ms, water {:.2} ms, render {:.2} ms, panels {:.2} ms; {}",
+                    "stoneskip: {} frames at {}x{}; mean over the last {}: {:.1} fps ({:.2} ms a frame): physics {:.2} ms, water {:.2} ms, render {:.2} ms, panels {:.2} ms; {} ticks, {:.3} s simulated, {:.3} s dropped; {}",
                     self.frames_drawn,
-                    t.frame_ms,
-                    1000.0 / t.frame_ms.max(1e-6),
-                    t.physics_ms,
-                    t.water_ms,
-                    t.render_ms,
-                    t.ui_ms,
+                    gfx.config.width,
+                    gfx.config.height,
+                    st.frames,
+                    n / st.wall.max(1e-9),
+                    1000.0 * st.wall / n,
+                    1000.0 * st.physics / n,
+                    1000.0 * st.water / n,
+                    1000.0 * st.render / n,
+                    1000.0 * st.ui / n,
+                    model.ticks,
+                    model.sim.time(),
+                    model.dropped_total,
                     gfx.adapter
                 );
             }
@@ -1081,7 +1137,7 @@ fn draw(
             .texture
             .create_view(&wgpu::TextureViewDescriptor::default());
         let size = (gfx.config.width, gfx.config.height);
-        let extra = render_frame(gfx, model, prims, ppp, &view, size);
+        let extra = render_frame(gfx, model, prims, ppp, &view, size, false);
         gfx.gpu.queue.submit(extra);
         gfx.gpu.queue.present(frame);
     }
@@ -1105,6 +1161,7 @@ fn render_frame(
     ppp: f32,
     target: &wgpu::TextureView,
     size: (u32, u32),
+    full_res: bool,
 ) -> Vec<wgpu::CommandBuffer> {
     let device = &gfx.gpu.device;
     let queue = &gfx.gpu.queue;
@@ -1119,6 +1176,12 @@ fn render_frame(
         height: (r.height() * ppp).max(1.0),
     };
     let scene = model.scene();
+    let scale = if model.phase == Phase::Running && !full_res {
+        model.view.render_scale
+    } else {
+        1.0
+    };
+    gfx.scene.set_render_scale(scale);
     gfx.scene.render(
         device,
         queue,
@@ -1191,7 +1254,7 @@ fn screenshot(
         view_formats: &[],
     });
     let view = tex.create_view(&wgpu::TextureViewDescriptor::default());
-    let bufs = render_frame(gfx, model, prims, ppp, &view, (w, h));
+    let bufs = render_frame(gfx, model, prims, ppp, &view, (w, h), true);
     gfx.gpu.queue.submit(bufs);
     let mut pixels = read_rgba8(&gfx.gpu.device, &gfx.gpu.queue, &tex, w, h)?;
     if matches!(
@@ -1220,6 +1283,10 @@ impl ApplicationHandler for App {
         let title = format!("stoneskip — {}", self.model.edit.name);
         match Gfx::new(event_loop, &title) {
             Ok(g) => {
+                if g.software {
+                    // Half resolution while animating: about 4× fewer pixels to shade.
+                    self.model.view.render_scale = 0.5;
+                }
                 g.window.request_redraw();
                 self.gfx = Some(g);
             }

@@ -1,7 +1,7 @@
 use stoneskip::render::{Offscreen, SceneStyle, SimulatedScene};
 fn min_ms(off: &mut Offscreen, scene: &stoneskip::render::Scene, w: u32, h: u32) -> f64 {
     let mut best = f64::MAX;
-    for _ in 0..5 {
+    for _ in 0..4 {
         let t = std::time::Instant::now();
         off.render(scene, w, h).unwrap();
         best = best.min(t.elapsed().as_secs_f64() * 1000.0);
@@ -14,16 +14,17 @@ fn timing() {
     let state = SimulatedScene::at_time(&preset, 0.6).unwrap();
     let scene = state.scene(SceneStyle::default());
     let mut offs = Vec::new();
-    for sp in [5.0f32, 10.0, 20.0, 40.0, 200.0] {
+    for sc in [1.0f32, 0.75, 0.5] {
         let mut off = Offscreen::with_samples(1).unwrap();
-        off.renderer_mut().set_grid_spacing(sp);
+        off.renderer_mut().set_render_scale(sc);
         off.render(&scene, 1280, 720).unwrap();
-        offs.push((sp, off));
+        if sc == 0.5 { off.render(&scene, 1280, 720).unwrap().save("/tmp/shots/half.png").unwrap(); }
+        offs.push((sc, off));
     }
     for round in 0..3 {
         let mut line = format!("round {round}:");
-        for (sp, off) in offs.iter_mut() {
-            line += &format!("  sp{sp}: {:.1}", min_ms(off, &scene, 1280, 720));
+        for (v, off) in offs.iter_mut() {
+            line += &format!("  scale {v}: {:.1}", min_ms(off, &scene, 1280, 720));
         }
         eprintln!("{line}");
     }

@@ -16,6 +16,8 @@ pub const NEAR: f32 = 0.02;
 /// Pitch of the default view below the horizontal (radians): the horizon sits at 0.53 of the
 /// half-height above the centre, about a quarter from the top (the upper third).
 pub const DEFAULT_PITCH: f32 = -14.0 * std::f32::consts::PI / 180.0;
+/// Lowest eye height the controls allow (m): the view stays above the water.
+pub const MIN_EYE_HEIGHT: f32 = 0.05;
 /// Eye of the default view: this far behind the launch point (m) …
 pub const DEFAULT_BACK: f32 = 2.6;
 /// … and this high above the water (m).
@@ -124,12 +126,22 @@ impl Camera {
     pub fn orbit(&mut self, d_yaw: f32, d_pitch: f32) {
         self.yaw = wrap_angle(self.yaw + d_yaw);
         self.pitch = (self.pitch + d_pitch).clamp(-1.5, 1.5);
+        self.keep_above_water();
     }
 
     /// Moves towards the target (`factor` < 1) or away (> 1).
     pub fn zoom(&mut self, factor: f32) {
         if factor.is_finite() && factor > 0.0 {
             self.distance = (self.distance * factor).clamp(0.15, 2000.0);
+        }
+        self.keep_above_water();
+    }
+
+    /// Lifts the target so the eye stays [`MIN_EYE_HEIGHT`] above the water at rest.
+    pub fn keep_above_water(&mut self) {
+        let z = self.eye().z;
+        if z < MIN_EYE_HEIGHT {
+            self.target.z += MIN_EYE_HEIGHT - z;
         }
     }
 
@@ -141,11 +153,13 @@ impl Camera {
         let right = f.cross(Vec3::Z).normalize_or(Vec3::X);
         let up = right.cross(f);
         self.target += (-dx * right + dy * up) * per_pixel;
+        self.keep_above_water();
     }
 
     /// Keeps the view direction and distance, moving the target to `point`.
     pub fn follow(&mut self, point: Vec3) {
         self.target = point;
+        self.keep_above_water();
     }
 
     /// Looks at the box [lo, hi] from the throw's left side, level with the water, like the
@@ -178,6 +192,7 @@ impl Camera {
         let half = 0.5 * self.fov_y.min(self.fov_y * aspect.clamp(0.2, 5.0));
         self.target = centre;
         self.distance = (1.1 * radius / half.sin()).clamp(0.3, 2000.0);
+        self.keep_above_water();
     }
 }
 
@@ -224,6 +239,15 @@ mod tests {
         // The launch point is in view, below the centre.
         let launch = cam.project(Vec3::new(0.0, 0.0, 0.3), 320, 180).unwrap();
         assert!(launch.x > 100.0 && launch.x < 220.0 && launch.y > 90.0 && launch.y < 180.0);
+    }
+
+    #[test]
+    fn controls_keep_the_eye_above_water() {
+        let mut cam = Camera::default_for(&Preset::default());
+        cam.orbit(0.0, 3.0);
+        assert!(cam.eye().z >= MIN_EYE_HEIGHT - 1e-5);
+        cam.pan(0.0, -5000.0, 100.0);
+        assert!(cam.eye().z >= MIN_EYE_HEIGHT - 1e-5);
     }
 
     #[test]

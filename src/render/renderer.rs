@@ -124,6 +124,8 @@ struct Targets {
     size: (u32, u32),
     depth: wgpu::TextureView,
     msaa: Option<wgpu::TextureView>,
+    /// The reduced-resolution colour target and its blit bind group (render scale < 1).
+    low: Option<(wgpu::TextureView, wgpu::BindGroup)>,
 }
 
 /// A growable vertex buffer of instances.
@@ -191,6 +193,9 @@ pub struct SceneRenderer {
     stone: Option<StoneGpu>,
     grid: Option<ProjectedGrid>,
     grid_spacing: f32,
+    render_scale: f32,
+    blit: wgpu::RenderPipeline,
+    blit_layout: wgpu::BindGroupLayout,
     targets: Option<Targets>,
     trail_buf: InstanceBuffer,
     trail_key: Option<(usize, [u32; 3])>,
@@ -200,7 +205,13 @@ pub struct SceneRenderer {
 }
 
 fn shader(device: &wgpu::Device, label: &str, body: &str) -> wgpu::ShaderModule {
-    let source = format!("{}\n{}", include_str!("../../shaders/common.wgsl"), body);
+    let mut source = format!("{}\n{}", include_str!("../../shaders/common.wgsl"), body);
+    if let Ok(dir) = std::env::var("TMP_SHADER_DIR") {
+        let file = match label { "water_prep" => "water_prep", l => l };
+        let c = std::fs::read_to_string(format!("{dir}/common.wgsl")).unwrap();
+        let b = std::fs::read_to_string(format!("{dir}/{file}.wgsl")).unwrap();
+        source = format!("{c}\n{b}");
+    }
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -479,6 +490,44 @@ impl SceneRenderer {
             targets: &blended,
             ms,
         });
+        let blit_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("blit"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let blit_pl = layout("blit", &[Some(&blit_layout)]);
+        let blit_sh = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("blit"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/blit.wgsl").into()),
+        });
+        let blit = make(Desc {
+            label: "blit",
+            layout: &blit_pl,
+            module: &blit_sh,
+            vs: "vs_blit",
+            fs: "fs_blit",
+            buffers: &[],
+            cull: None,
+            depth: None,
+            targets: &opaque,
+            ms: wgpu::MultisampleState::default(),
+        });
         // A flat 1×1 prepared texture for scenes without a grid (the water still binds one).
         let flat_prep = device.create_texture_with_data(
             queue,
@@ -522,6 +571,9 @@ impl SceneRenderer {
             stone: None,
             grid: None,
             grid_spacing: GRID_SPACING,
+            render_scale: 1.0,
+            blit,
+            blit_layout,
             targets: None,
             trail_buf: InstanceBuffer::new(device, "trail", 64 * 1024),
             trail_key: None,
@@ -551,13 +603,23 @@ impl SceneRenderer {
         clear: wgpu::Color,
     ) {
         let target_size = (target_size.0.max(1), target_size.1.max(1));
-        self.ensure_targets(device, target_size);
+        let vp = clamp_viewport(viewport, target_size);
+        let scaled = self.render_scale < 0.999;
+        // The scene's own resolution: the view's, or a reduced one upscaled at the end.
+        let (scene_size, scene_vp) = if scaled {
+            let w = (vp.width * self.render_scale).round().max(1.0) as u32;
+            let h = (vp.height * self.render_scale).round().max(1.0) as u32;
+            ((w, h), Viewport::full(w, h))
+        } else {
+            (target_size, vp)
+        };
+        self.ensure_targets(device, scene_size, scaled);
         self.upload_water(device, queue, encoder, scene);
         self.upload_stone(device, scene);
-        self.ensure_grid(device, viewport);
-        let globals = self.globals_for(scene, viewport);
+        self.ensure_grid(device, scene_vp);
+        let globals = self.globals_for(scene, scene_vp);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
-        self.upload_trail(device, queue, scene, viewport);
+        self.upload_trail(device, queue, scene, scene_vp);
         let (flat_decals, solid_decals) = decals_for(scene);
         let n_flat = flat_decals.len() as u32;
         let n_solid = solid_decals.len() as u32;
@@ -569,9 +631,13 @@ impl SceneRenderer {
         let Some(targets) = self.targets.as_ref() else {
             return;
         };
+        let scene_target = match &targets.low {
+            Some((view, _)) => view,
+            None => target,
+        };
         let (color_view, resolve) = match &targets.msaa {
-            Some(ms) => (ms, Some(target)),
-            None => (target, None),
+            Some(ms) => (ms, Some(scene_target)),
+            None => (scene_target, None),
         };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scene"),
@@ -596,20 +662,22 @@ impl SceneRenderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let vp = clamp_viewport(viewport, target_size);
-        pass.set_viewport(vp.x, vp.y, vp.width, vp.height, 0.0, 1.0);
-        pass.set_scissor_rect(vp.x as u32, vp.y as u32, vp.width as u32, vp.height as u32);
+        let svp = scene_vp;
+        pass.set_viewport(svp.x, svp.y, svp.width, svp.height, 0.0, 1.0);
+        pass.set_scissor_rect(svp.x as u32, svp.y as u32, svp.width as u32, svp.height as u32);
         pass.set_bind_group(0, &self.globals_bind, &[]);
 
+        if std::env::var("SKIP_SKY").is_err() {
         pass.set_pipeline(&self.sky);
         pass.draw(0..3, 0..1);
+        }
 
         let water_bind = match &self.water {
             Some(w) if scene.water.is_some() => &w.water_bind,
             _ => &self.flat_water_bind,
         };
         // The horizon below the view: no water to draw.
-        if let (Some(grid), true) = (&self.grid, globals.options[3] > -1.5) {
+        if let (Some(grid), true, false) = (&self.grid, globals.options[3] > -1.5, std::env::var("SKIP_WATER").is_ok()) {
             pass.set_pipeline(&self.water_pipe);
             pass.set_bind_group(1, water_bind, &[]);
             pass.set_index_buffer(grid.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -647,10 +715,51 @@ impl SceneRenderer {
             );
             pass.draw(0..DECAL_VERTICES, 0..n_solid);
         }
+        drop(pass);
+        if let Some((_, bind)) = &targets.low {
+            // Upscale into the view's rectangle.
+            let mut blit = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("upscale"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(clear),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            blit.set_viewport(vp.x, vp.y, vp.width, vp.height, 0.0, 1.0);
+            blit.set_scissor_rect(vp.x as u32, vp.y as u32, vp.width as u32, vp.height as u32);
+            blit.set_pipeline(&self.blit);
+            blit.set_bind_group(0, bind, &[]);
+            blit.draw(0..3, 0..1);
+        }
     }
 
-    fn ensure_targets(&mut self, device: &wgpu::Device, size: (u32, u32)) {
-        if self.targets.as_ref().is_some_and(|t| t.size == size) {
+    /// Draws the scene at `scale` × the view's resolution and upscales it (1 = full resolution;
+    /// software rasterisers pay per pixel). Clamped to [0.25, 1].
+    pub fn set_render_scale(&mut self, scale: f32) {
+        if scale.is_finite() {
+            self.render_scale = scale.clamp(0.25, 1.0);
+        }
+    }
+
+    pub fn render_scale(&self) -> f32 {
+        self.render_scale
+    }
+
+    fn ensure_targets(&mut self, device: &wgpu::Device, size: (u32, u32), low_res: bool) {
+        if self
+            .targets
+            .as_ref()
+            .is_some_and(|t| t.size == size && t.low.is_some() == low_res)
+        {
             return;
         }
         let extent = wgpu::Extent3d {
@@ -683,10 +792,28 @@ impl SceneRenderer {
                 })
                 .create_view(&wgpu::TextureViewDescriptor::default())
         });
+        let low = low_res.then(|| {
+            let view = device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some("scene_low_res"),
+                    size: extent,
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: self.config.color_format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&wgpu::TextureViewDescriptor::default());
+            let bind = water_bind_group(device, &self.blit_layout, &view, &self.sampler);
+            (view, bind)
+        });
         self.targets = Some(Targets {
             size,
             depth: depth.create_view(&wgpu::TextureViewDescriptor::default()),
             msaa,
+            low,
         });
     }
 

@@ -95,3 +95,29 @@ pub fn min_speed(
     }
     Ok(Some(0.5 * (a + b)))
 }
+
+/// Sizes the water grid to the throw (model no more than the scene needs): the stone is run once
+/// without water (cheap), and the grid is made to cover its whole track plus `margin` metres on
+/// every side, in whole cells. The lake's other settings are kept.
+pub fn fit_water_to_throw(preset: &Preset, margin: f64) -> Result<Preset, SimError> {
+    let mut dry = preset.clone();
+    dry.water.enabled = false;
+    let mut sim = Simulation::new(&dry)?;
+    let start = sim.state().position;
+    let (mut lo, mut hi) = ([start.x, start.y], [start.x, start.y]);
+    sim.run(
+        &mut |s| {
+            let p = s.state.position;
+            lo = [lo[0].min(p.x), lo[1].min(p.y)];
+            hi = [hi[0].max(p.x), hi[1].max(p.y)];
+        },
+        &|| false,
+    );
+    let mut out = preset.clone();
+    let cell = preset.water.cell;
+    let span = |a: f64, b: f64| ((b - a + 2.0 * margin) / cell).ceil().max(8.0) * cell;
+    out.water.origin = Some([lo[0] - margin, lo[1] - margin]);
+    out.water.size = [span(lo[0], hi[0]), span(lo[1], hi[1])];
+    out.validate()?;
+    Ok(out)
+}

@@ -29,7 +29,8 @@
 //!
 //! **Parallel and deterministic.** One step is a single fused sweep over rows with a two-row lag held
 //! in small row buffers: new flows of row j → K of row j → limited flows of row j − 1 → depths of row
-//! j − 1. Every new value is computed from old values only (Jacobi). The sweep writes in place, a row
+//! j − 1, the four stages taking turns on segments of 128 columns so that what one stage writes is
+//! still in L1 when the next reads it. Every new value is computed from old values only (Jacobi). The sweep writes in place, a row
 //! being overwritten only after its last read; rows are cut into chunks run by rayon, and each chunk
 //! works from a copy of the two old rows on either side of it (the double buffer, reduced to the rows
 //! that need one) and recomputes the flows of the two rows before it. The result therefore does not
@@ -192,6 +193,8 @@ struct Coeffs {
     pd: f64,
     /// Δt / l²: flow (m³/s) to depth change per step.
     beta: f64,
+    /// Columns per segment of the row pipeline ([`SEGMENT`]; smaller in tests).
+    seg: usize,
 }
 
 impl Coeffs {
@@ -257,8 +260,8 @@ impl Scratch {
             self.qn = vec![0.0; 2 * np * w];
             self.qf = vec![0.0; np * w];
             self.k = vec![1.0; 2 * w];
-            self.h0 = vec![0.0; nx];
-            self.h1 = vec![0.0; nx];
+            self.h0 = vec![0.0; w];
+            self.h1 = vec![0.0; w];
         }
     }
 }
@@ -273,17 +276,18 @@ pub struct WaterGrid {
     /// qx: (ix,iy)→(ix+1,iy); qy: (ix,iy)→(ix,iy+1); qd: (ix,iy)→(ix+1,iy+1); qa: (ix,iy)→(ix−1,iy+1).
     /// The wall pipes and the pads stay 0.
     cur: Vec<f64>,
-    /// Bed elevation + H per column (0 on the flat bed z = −H); empty while the bed is flat.
+    /// Bed elevation + H per column (0 on the flat bed z = −H), rows padded like the state; empty
+    /// while the bed is flat.
     bed: Vec<f64>,
     row_bed: Vec<bool>,
     /// Impulses (N·s, down) deposited since the last step; empty until the first deposit.
     pending: Vec<f64>,
     touched: Vec<usize>,
-    /// External pressure (Pa) during the current step; empty until the first deposit.
+    /// External pressure (Pa) during the current step, rows padded like the state; empty until the
+    /// first deposit.
     press: Vec<f64>,
     /// Rows holding external pressure during the current step.
     row_press: Vec<bool>,
-    zeros: Vec<f64>,
     scratch: Vec<Scratch>,
     chunk_rows: Option<usize>,
     steps: u64,
@@ -362,6 +366,7 @@ impl WaterGrid {
             px: dt * ax / (rho * lx),
             pd: dt * ad / (rho * ld),
             beta: dt / (l * l),
+            seg: SEGMENT,
         };
         let mut cur = vec![0.0; cfg.ny * co.stride()];
         for row in cur.chunks_exact_mut(co.stride()) {
@@ -378,7 +383,6 @@ impl WaterGrid {
             touched: Vec::new(),
             press: Vec::new(),
             row_press: vec![false; cfg.ny],
-            zeros: vec![0.0; cfg.nx],
             scratch: Vec::new(),
             chunk_rows: None,
             steps: 0,
@@ -486,7 +490,6 @@ impl WaterGrid {
                 .then_some(self.press.as_slice()),
             row_bed: &self.row_bed,
             row_press: &self.row_press,
-            zeros: &self.zeros,
         };
         if chunks.len() <= 1 {
             if let Some(s) = self.scratch.first_mut() {
@@ -585,14 +588,16 @@ impl WaterGrid {
         if self.touched.is_empty() {
             return;
         }
+        let (nx, w) = (self.cfg.nx, self.co.w());
         if self.press.is_empty() {
-            self.press = vec![0.0; self.cfg.nx * self.cfg.ny];
+            self.press = vec![0.0; self.cfg.ny * w];
         }
         let scale = 1.0 / (self.dt * self.cfg.cell * self.cfg.cell);
         // Two passes: a column may be listed twice if its sum returned to zero in between.
         for &i in &self.touched {
-            self.press[i] = self.pending[i] * scale;
-            self.row_press[i / self.cfg.nx] = true;
+            let (iy, ix) = (i / nx, i % nx);
+            self.press[iy * w + 1 + ix] = self.pending[i] * scale;
+            self.row_press[iy] = true;
         }
         for &i in &self.touched {
             self.pending[i] = 0.0;
@@ -600,9 +605,11 @@ impl WaterGrid {
     }
 
     fn clear_pressure(&mut self) {
+        let (nx, w) = (self.cfg.nx, self.co.w());
         for &i in &self.touched {
-            self.press[i] = 0.0;
-            self.row_press[i / self.cfg.nx] = false;
+            let (iy, ix) = (i / nx, i % nx);
+            self.press[iy * w + 1 + ix] = 0.0;
+            self.row_press[iy] = false;
         }
         self.touched.clear();
     }
@@ -650,7 +657,7 @@ impl WaterGrid {
             return 0.0;
         }
         let d = self.cur[self.at(ix, iy, 0)];
-        match self.bed.get(iy * self.cfg.nx + ix) {
+        match self.bed.get(iy * self.co.w() + 1 + ix) {
             Some(&b) => (d + b) - self.cfg.depth,
             None => d - self.cfg.depth,
         }
@@ -663,7 +670,8 @@ impl WaterGrid {
         out.reserve(nx * self.cfg.ny);
         for (iy, row) in self.cur.chunks_exact(self.co.stride()).enumerate() {
             let d = &row[1..=nx];
-            match self.bed.get(iy * nx..(iy + 1) * nx) {
+            let at = iy * self.co.w() + 1;
+            match self.bed.get(at..at + nx) {
                 Some(b) => out.extend(d.iter().zip(b).map(|(&d, &b)| ((d + b) - h) as f32)),
                 None => out.extend(d.iter().map(|&d| (d - h) as f32)),
             }
@@ -723,7 +731,10 @@ impl WaterGrid {
     /// Bed elevation z (m) of column (ix, iy): −H unless set by [`Self::set_bed`] (or outside the grid).
     pub fn bed(&self, ix: usize, iy: usize) -> f64 {
         let b = if ix < self.cfg.nx && iy < self.cfg.ny {
-            self.bed.get(iy * self.cfg.nx + ix).copied().unwrap_or(0.0)
+            self.bed
+                .get(iy * self.co.w() + 1 + ix)
+                .copied()
+                .unwrap_or(0.0)
         } else {
             0.0
         };
@@ -773,10 +784,11 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny || !z.is_finite() {
             return;
         }
+        let w = self.co.w();
         if self.bed.is_empty() {
-            self.bed = vec![0.0; self.cfg.nx * self.cfg.ny];
+            self.bed = vec![0.0; self.cfg.ny * w];
         }
-        self.bed[iy * self.cfg.nx + ix] = z + self.cfg.depth;
+        self.bed[iy * w + 1 + ix] = z + self.cfg.depth;
         self.row_bed[iy] = true;
     }
 
@@ -879,8 +891,11 @@ struct Input<'a> {
     press: Option<&'a [f64]>,
     row_bed: &'a [bool],
     row_press: &'a [bool],
-    zeros: &'a [f64],
 }
+
+/// Columns per segment of the row pipeline: the arrays one segment touches (≈ 20 of them) stay in
+/// the L1 cache between the stages.
+const SEGMENT: usize = 128;
 
 fn run_chunk(co: &Coeffs, input: &Input, r0: usize, r1: usize, own: &mut [f64], s: &mut Scratch) {
     if co.nf == 5 {
@@ -890,13 +905,13 @@ fn run_chunk(co: &Coeffs, input: &Input, r0: usize, r1: usize, own: &mut [f64], 
     }
 }
 
-/// Old row block j as seen by the chunk [r0, r1): its own rows (not yet overwritten when read), or the
-/// copies of the two rows on either side.
+/// Old row block `j` as seen by the chunk [r0, r1) at row `at`: the copies of the two rows on either
+/// side, or the chunk's own rows from `at` on (`tail`), which are not overwritten yet.
 #[inline]
 fn old_row<'a>(
     j: usize,
-    (r0, r1, stride): (usize, usize, usize),
-    own: &'a [f64],
+    (r0, r1, at, stride): (usize, usize, usize, usize),
+    tail: &'a [f64],
     lo: &'a [f64],
     hi: &'a [f64],
 ) -> &'a [f64] {
@@ -907,17 +922,19 @@ fn old_row<'a>(
         let k = j - r1;
         &hi[k * stride..(k + 1) * stride]
     } else {
-        &own[(j - r0) * stride..(j - r0 + 1) * stride]
+        &tail[(j - at) * stride..(j - at + 1) * stride]
     }
 }
 
 /// One chunk of rows [r0, r1), updated in place in one fused sweep. For each row j, starting two rows
-/// early: A(j) the new flows of row j's pipes (reads old rows j, j + 1); K(j) the limiter of row j
-/// (needs A(j − 1), A(j)); F(j − 1) the limited flows of row j − 1 (needs K(j − 1), K(j)), written over
-/// row j − 1's old flows (or, for the row before the chunk, into the halo buffer); D(j − 1) the new
-/// depths of row j − 1 (needs F(j − 2), F(j − 1)). A row is overwritten only after the last read of its
-/// old values. Row ny is virtual (K = 1). Two slots per buffer hold rows j − 1 and j; a slot not yet
-/// written holds zero flows, which is what the rows before the grid carry.
+/// early, four stages: A(j) the new flows of row j's pipes (reads old rows j, j + 1); K(j) the limiter
+/// of row j (needs A(j − 1), A(j)); F(j − 1) the limited flows of row j − 1 (needs K(j − 1), K(j)),
+/// written over row j − 1's old flows (or, for the row before the chunk, into a buffer); D(j − 1) the
+/// new depths of row j − 1 (needs F(j − 2), F(j − 1)). Within a row the stages run segment by
+/// segment, F and D one column behind A and K (their only look-ahead), so a segment's data is still in
+/// L1 when the next stage reads it. A row is overwritten only after the last read of its old values.
+/// Row ny is virtual (K = 1). Two slots per buffer hold rows j − 1 and j; a slot not yet written holds
+/// zero flows, which is what the rows before the grid carry.
 fn chunk<const DIAG: bool>(
     co: &Coeffs,
     input: &Input,
@@ -930,7 +947,6 @@ fn chunk<const DIAG: bool>(
     let stride = co.stride();
     let w = co.w();
     let blk = (co.nf - 1) * w;
-    let span = (r0, r1, stride);
     let Scratch {
         qn,
         qf,
@@ -946,238 +962,223 @@ fn chunk<const DIAG: bool>(
     k.fill(1.0);
     for j in r0.saturating_sub(2)..=r1 {
         let cur = j % 2;
-        let oth = 1 - cur; // holds row j − 1
-        if j < ny {
-            let row = old_row(j, span, own, lo, hi);
-            let up = old_row((j + 1).min(ny - 1), span, own, lo, hi);
-            {
-                let (qa, qb) = qn.split_at_mut(blk);
-                let q = if cur == 0 { qa } else { qb };
-                flows_row::<DIAG>(co, input, j, row, up, q, h0, h1);
-            }
-            if j + 1 >= r0 && !co.clamp {
-                let (qa, qb) = qn.split_at(blk);
-                let (mine, before) = if cur == 0 { (qa, qb) } else { (qb, qa) };
-                let kk = &mut k[cur * w + 1..cur * w + 1 + nx];
-                limiter_row::<DIAG>(kk, &row[1..=nx], mine, before, w, co.beta);
-            }
-        } else {
+        let real = j < ny;
+        let limit = real && j + 1 >= r0 && !co.clamp;
+        let finish = j >= r0 && j > 0; // F(j − 1) runs; D(j − 1) too if row j − 1 is the chunk's
+        let mine = finish && j > r0;
+        if !real {
             k[cur * w..(cur + 1) * w].fill(1.0);
         }
-        if j < r0 || j == 0 {
-            continue;
-        }
-        let jm = j - 1;
-        let (ka, kb) = k.split_at(w);
-        let (k_own, k_up) = if oth == 0 { (ka, kb) } else { (kb, ka) };
-        let q = &qn[oth * blk..(oth + 1) * blk];
-        if jm < r0 {
-            // The row before the chunk: its limited flows feed D(r0).
-            finalize_row::<DIAG>(&mut qf[..blk], q, k_own, k_up, w);
-            continue;
-        }
-        let (done, rest) = own.split_at_mut((jm - r0) * stride);
-        let (d, pipes) = rest[..stride].split_at_mut(w);
-        finalize_row::<DIAG>(pipes, q, k_own, k_up, w);
-        let before: &[f64] = if jm == r0 {
-            &qf[..blk]
+        // The chunk's rows before j (written) and from j on (still old).
+        let at = j.clamp(r0, r1);
+        let (head, tail) = own.split_at_mut((at - r0) * stride);
+        let tail: &[f64] = tail;
+        let span = (r0, r1, at, stride);
+        let jr = j.min(ny - 1);
+        let ju = (j + 1).min(ny - 1);
+        let (row, up) = if real {
+            (
+                old_row(jr, span, tail, lo, hi),
+                old_row(ju, span, tail, lo, hi),
+            )
         } else {
-            &done[(jm - r0 - 1) * stride + w..(jm - r0) * stride]
+            (&[][..], &[][..])
         };
-        depth_row::<DIAG>(&mut d[1..=nx], pipes, before, w, co.beta, co.clamp);
+        // Surfaces of rows j and j + 1: the depths, plus the bed where one is set.
+        let bed_rows = real && (input.row_bed[jr] || input.row_bed[ju]);
+        if bed_rows {
+            surface(h0, &row[..w], input.bed, jr * w);
+            surface(h1, &up[..w], input.bed, ju * w);
+        }
+        let (ha, hb): (&[f64], &[f64]) = if bed_rows {
+            (h0, h1)
+        } else if real {
+            (&row[..w], &up[..w])
+        } else {
+            (&[], &[])
+        };
+        let (qa, qb) = qn.split_at_mut(blk);
+        let (qn_j, qn_prev): (&mut [f64], &[f64]) = if cur == 0 { (qa, qb) } else { (qb, qa) };
+        let (ka, kb) = k.split_at_mut(w);
+        let (k_j, k_prev): (&mut [f64], &[f64]) = if cur == 0 { (ka, kb) } else { (kb, ka) };
+        // Where F(j − 1) and D(j − 1) write, and the limited flows of row j − 2 that D reads.
+        let (d_out, f_out, before): (&mut [f64], &mut [f64], &[f64]) = if mine {
+            let n = head.len() / stride; // rows r0 .. j: row j − 1 is the last
+            let (older, last) = head.split_at_mut((n - 1) * stride);
+            let (d, f) = last.split_at_mut(w);
+            let before: &[f64] = if n >= 2 {
+                &older[(n - 2) * stride + w..]
+            } else {
+                &qf[..]
+            };
+            (d, f, before)
+        } else {
+            (&mut [], &mut qf[..], &[])
+        };
+        let mut a = 1;
+        loop {
+            let b = (a + co.seg).min(nx + 1);
+            if real {
+                flows::<DIAG>(co, input, j, a, b, row, ha, hb, qn_j);
+                if limit {
+                    limiter::<DIAG>(k_j, &row[..w], qn_j, qn_prev, w, co.beta, a, b);
+                }
+            }
+            // F and D lag one column behind: [a − 1, b − 1), and the last column at the end.
+            let fb = if b == nx + 1 { nx + 1 } else { b - 1 };
+            let fa = a.max(2) - 1;
+            if finish && fa < fb {
+                finalize::<DIAG>(f_out, qn_prev, k_prev, k_j, w, fa, fb);
+                if mine {
+                    depth::<DIAG>(d_out, f_out, before, w, co.beta, co.clamp, fa, fb);
+                }
+            }
+            if b == nx + 1 {
+                break;
+            }
+            a = b;
+        }
     }
 }
 
-/// A(j): the new, unlimited flows of row j's pipes into `qn` ([pipe][w], padded by one each side),
-/// from the old row blocks j and j + 1 (`up` is row j itself on the last row).
+/// A(j) on padded columns [a, b): the new, unlimited flows of row j's pipes into `qn` ([pipe][w]), from
+/// the old flows of row j and the surfaces `h0`, `h1` of rows j and j + 1 (padded).
 #[allow(clippy::too_many_arguments)]
-fn flows_row<const DIAG: bool>(
+fn flows<const DIAG: bool>(
     co: &Coeffs,
     input: &Input,
     j: usize,
+    a: usize,
+    b: usize,
     row: &[f64],
-    up: &[f64],
+    h0: &[f64],
+    h1: &[f64],
     qn: &mut [f64],
-    h0buf: &mut [f64],
-    h1buf: &mut [f64],
 ) {
-    let (nx, ny) = (co.nx, co.ny);
-    let w = co.w();
+    let (nx, ny, w) = (co.nx, co.ny, co.w());
     let has_up = j + 1 < ny;
-    let ju = if has_up { j + 1 } else { j };
-    let field = |f: usize| f * w + 1..f * w + 1 + nx;
-    // Surfaces h of rows j and j + 1: the depths, plus the bed where one is set.
-    let (h0, h1): (&[f64], &[f64]) = if input.row_bed[j] || input.row_bed[ju] {
-        surface(h0buf, &row[field(0)], input.bed, j * nx);
-        surface(h1buf, &up[field(0)], input.bed, ju * nx);
-        (&h0buf[..nx], &h1buf[..nx])
-    } else {
-        (&row[field(0)], &up[field(0)])
-    };
     let (qn_x, rest) = qn.split_at_mut(w);
     let (qn_y, rest) = rest.split_at_mut(w);
     let (qn_d, qn_a) = rest.split_at_mut(if DIAG { w } else { 0 });
+    let old = |f: usize| &row[f * w..(f + 1) * w];
     let (gx, gd, damp) = (co.gx, co.gd, co.damp);
-    grad_x(
-        &mut qn_x[1..=nx],
-        &row[field(1)],
-        h0,
-        damp,
-        co.row_edge(gx, gd, j),
-    );
+    // Interior ranges: the x and +x+y pipes of the last column and the −x+y pipe of the first are walls.
+    let bx = b.min(nx);
+    let aa = a.max(2);
+    grad(qn_x, old(1), h0, h0, 1, damp, co.row_edge(gx, gd, j), a, bx);
+    if b > nx {
+        qn_x[nx] = 0.0;
+    }
     if has_up {
+        grad(qn_y, old(2), h0, h1, 0, damp, gx, a, b);
         let ge = co.col_edge(gx, gd);
-        grad_y(&mut qn_y[1..=nx], &row[field(2)], h0, h1, damp, gx, ge);
+        for e in edges(nx) {
+            if a <= e && e < b {
+                qn_y[e] = damp * old(2)[e] + ge * (h0[e] - h1[e]);
+            }
+        }
         if DIAG {
-            grad_d(&mut qn_d[1..=nx], &row[field(3)], h0, h1, damp, gd);
-            grad_a(&mut qn_a[1..=nx], &row[field(4)], h0, h1, damp, gd);
+            grad(qn_d, old(3), h0, h1, 1, damp, gd, a, bx);
+            grad(qn_a, old(4), h0, h1, -1, damp, gd, aa, b);
         }
     } else {
-        qn_y.fill(0.0);
-        qn_d.fill(0.0);
-        qn_a.fill(0.0);
+        qn_y[a..b].fill(0.0);
+        if DIAG {
+            qn_d[a..b].fill(0.0);
+            qn_a[a..b].fill(0.0);
+        }
+    }
+    if DIAG && b > nx {
+        qn_d[nx] = 0.0;
+    }
+    if DIAG && a <= 1 {
+        qn_a[1] = 0.0;
     }
     // External pressure E: + Δt·(A/(ρL))·(E_i − E_j), on the rows that hold some.
     let Some(press) = input.press else {
         return;
     };
+    let ju = if has_up { j + 1 } else { j };
     if !(input.row_press[j] || input.row_press[ju]) {
         return;
     }
-    let p0 = &press[j * nx..(j + 1) * nx];
-    let p1 = if has_up {
-        &press[ju * nx..(ju + 1) * nx]
-    } else {
-        &input.zeros[..nx]
-    };
+    let p0 = &press[j * w..(j + 1) * w];
+    let p1 = &press[ju * w..(ju + 1) * w];
     let (px, pd) = (co.px, co.pd);
-    add_grad_x(&mut qn_x[1..=nx], p0, co.row_edge(px, pd, j));
+    add_grad(qn_x, p0, p0, 1, co.row_edge(px, pd, j), a, bx);
     if has_up {
-        add_grad_y(&mut qn_y[1..=nx], p0, p1, px, co.col_edge(px, pd));
+        add_grad(qn_y, p0, p1, 0, px, aa, bx);
+        let pe = co.col_edge(px, pd);
+        for e in edges(nx) {
+            if a <= e && e < b {
+                qn_y[e] += pe * (p0[e] - p1[e]);
+            }
+        }
         if DIAG {
-            add_grad_d(&mut qn_d[1..=nx], p0, p1, pd);
-            add_grad_a(&mut qn_a[1..=nx], p0, p1, pd);
+            add_grad(qn_d, p0, p1, 1, pd, a, bx);
+            add_grad(qn_a, p0, p1, -1, pd, aa, b);
         }
     }
 }
 
-/// h = depth + bed (the bed may be absent).
+/// The padded indices of the first and last column (one index when nx = 1).
+fn edges(nx: usize) -> impl Iterator<Item = usize> {
+    [1, nx].into_iter().take(if nx == 1 { 1 } else { 2 })
+}
+
+/// h = depth + bed on a padded row.
 fn surface(h: &mut [f64], d: &[f64], bed: Option<&[f64]>, at: usize) {
     let n = d.len();
     let h = &mut h[..n];
     match bed {
-        Some(b) => {
-            let b = &b[at..at + n];
+        Some(bed) => {
+            let bed = &bed[at..at + n];
             for i in 0..n {
-                h[i] = d[i] + b[i];
+                h[i] = d[i] + bed[i];
             }
         }
         None => h.copy_from_slice(d),
     }
 }
 
-/// x pipes: qn[i] = damp·q[i] + a·(h[i] − h[i+1]); the last one is a wall (0).
-fn grad_x(qn: &mut [f64], q: &[f64], h: &[f64], damp: f64, a: f64) {
-    let n = h.len();
-    if n == 0 {
+/// qn[p] = damp·q[p] + c·(h0[p] − h1[p + off]) for p in [a, b) (off = +1, 0 or −1 picks the pipe's
+/// other end in row j (x: h1 = h0) or row j + 1).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn grad(
+    qn: &mut [f64],
+    q: &[f64],
+    h0: &[f64],
+    h1: &[f64],
+    off: isize,
+    damp: f64,
+    c: f64,
+    a: usize,
+    b: usize,
+) {
+    if a >= b {
         return;
     }
-    let m = n - 1;
-    let (o, q, h0, h1) = (&mut qn[..m], &q[..m], &h[..m], &h[1..n]);
-    for i in 0..m {
-        o[i] = damp * q[i] + a * (h0[i] - h1[i]);
-    }
-    qn[m] = 0.0;
-}
-
-/// y pipes: qn[i] = damp·q[i] + a·(h0[i] − h1[i]); the first and last column use the wall
-/// coefficient `ae` (the mirrored diagonals).
-fn grad_y(qn: &mut [f64], q: &[f64], h0: &[f64], h1: &[f64], damp: f64, a: f64, ae: f64) {
-    let n = h0.len();
-    if n == 0 {
-        return;
-    }
-    let (o, q, h1) = (&mut qn[..n], &q[..n], &h1[..n]);
+    let n = b - a;
+    let o = (a as isize + off) as usize;
+    let (qn, q, h0, h1) = (&mut qn[a..b], &q[a..b], &h0[a..b], &h1[o..o + n]);
     for i in 0..n {
-        o[i] = damp * q[i] + a * (h0[i] - h1[i]);
-    }
-    o[0] = damp * q[0] + ae * (h0[0] - h1[0]);
-    o[n - 1] = damp * q[n - 1] + ae * (h0[n - 1] - h1[n - 1]);
-}
-
-/// +x+y pipes: qn[i] = damp·q[i] + a·(h0[i] − h1[i+1]); the last column's is a wall.
-fn grad_d(qn: &mut [f64], q: &[f64], h0: &[f64], h1: &[f64], damp: f64, a: f64) {
-    let n = h0.len();
-    if n == 0 {
-        return;
-    }
-    let m = n - 1;
-    let (o, q, a0, a1) = (&mut qn[..m], &q[..m], &h0[..m], &h1[1..n]);
-    for i in 0..m {
-        o[i] = damp * q[i] + a * (a0[i] - a1[i]);
-    }
-    qn[m] = 0.0;
-}
-
-/// −x+y pipes: qn[i] = damp·q[i] + a·(h0[i] − h1[i−1]); the first column's is a wall.
-fn grad_a(qn: &mut [f64], q: &[f64], h0: &[f64], h1: &[f64], damp: f64, a: f64) {
-    let n = h0.len();
-    if n == 0 {
-        return;
-    }
-    let m = n - 1;
-    qn[0] = 0.0;
-    let (o, q, a0, a1) = (&mut qn[1..n], &q[1..n], &h0[1..n], &h1[..m]);
-    for i in 0..m {
-        o[i] = damp * q[i] + a * (a0[i] - a1[i]);
+        qn[i] = damp * q[i] + c * (h0[i] - h1[i]);
     }
 }
 
-fn add_grad_x(qn: &mut [f64], p: &[f64], a: f64) {
-    let n = p.len();
-    if n == 0 {
+/// qn[p] += c·(p0[p] − p1[p + off]) for p in [a, b): the pressure term, same pipes as [`grad`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn add_grad(qn: &mut [f64], p0: &[f64], p1: &[f64], off: isize, c: f64, a: usize, b: usize) {
+    if a >= b {
         return;
     }
-    let m = n - 1;
-    let (o, p0, p1) = (&mut qn[..m], &p[..m], &p[1..n]);
-    for i in 0..m {
-        o[i] += a * (p0[i] - p1[i]);
-    }
-}
-
-fn add_grad_y(qn: &mut [f64], p0: &[f64], p1: &[f64], a: f64, ae: f64) {
-    let n = p0.len();
-    if n == 0 {
-        return;
-    }
-    let (o, p1) = (&mut qn[..n], &p1[..n]);
+    let n = b - a;
+    let o = (a as isize + off) as usize;
+    let (qn, p0, p1) = (&mut qn[a..b], &p0[a..b], &p1[o..o + n]);
     for i in 0..n {
-        let c = if i == 0 || i + 1 == n { ae } else { a };
-        o[i] += c * (p0[i] - p1[i]);
-    }
-}
-
-fn add_grad_d(qn: &mut [f64], p0: &[f64], p1: &[f64], a: f64) {
-    let n = p0.len();
-    if n == 0 {
-        return;
-    }
-    let m = n - 1;
-    let (o, a0, a1) = (&mut qn[..m], &p0[..m], &p1[1..n]);
-    for i in 0..m {
-        o[i] += a * (a0[i] - a1[i]);
-    }
-}
-
-fn add_grad_a(qn: &mut [f64], p0: &[f64], p1: &[f64], a: f64) {
-    let n = p0.len();
-    if n == 0 {
-        return;
-    }
-    let m = n - 1;
-    let (o, a0, a1) = (&mut qn[1..n], &p0[1..n], &p1[..m]);
-    for i in 0..m {
-        o[i] += a * (a0[i] - a1[i]);
+        qn[i] += c * (p0[i] - p1[i]);
     }
 }
 
@@ -1212,29 +1213,32 @@ fn kfactor(depth: f64, out: f64) -> f64 {
     }
 }
 
-/// K(j) = min(1, depth/(β·Σ outflow)) of each column of row j (Mei et al. 2007, eq. 4), from the new
-/// flows of row j (`own`) and row j − 1 (`before`; zeros before the grid). Outflows are summed in
-/// pairs of opposite pipes, so mirror images round alike.
-fn limiter_row<const DIAG: bool>(
+/// K(j) on padded columns [a, b): min(1, depth/(β·Σ outflow)) (Mei et al. 2007, eq. 4), from the new
+/// flows of row j (`own`) and row j − 1 (`before`; zeros before the grid). Outflows are summed in pairs
+/// of opposite pipes, so mirror images round alike.
+#[allow(clippy::too_many_arguments)]
+fn limiter<const DIAG: bool>(
     k: &mut [f64],
     d: &[f64],
     own: &[f64],
     before: &[f64],
     w: usize,
     beta: f64,
+    a: usize,
+    b: usize,
 ) {
-    let n = d.len();
-    let k = &mut k[..n];
-    let x_own = &own[1..=n];
-    let x_left = &own[..n];
-    let y_own = &own[w + 1..w + 1 + n];
-    let y_below = &before[w + 1..w + 1 + n];
+    let n = b - a;
+    let (k, d) = (&mut k[a..b], &d[a..b]);
+    let x_own = &own[a..b];
+    let x_left = &own[a - 1..b - 1];
+    let y_own = &own[w + a..w + b];
+    let y_below = &before[w + a..w + b];
     if DIAG {
-        let d_own = &own[2 * w + 1..2 * w + 1 + n];
-        let a_own = &own[3 * w + 1..3 * w + 1 + n];
-        // The +x+y pipe into (i, j) is owned by (i − 1, j − 1), the −x+y pipe by (i + 1, j − 1).
-        let d_below = &before[2 * w..2 * w + n];
-        let a_below = &before[3 * w + 2..3 * w + 2 + n];
+        let d_own = &own[2 * w + a..2 * w + b];
+        let a_own = &own[3 * w + a..3 * w + b];
+        // The +x+y pipe into (p, j) is owned by (p − 1, j − 1), the −x+y pipe by (p + 1, j − 1).
+        let d_below = &before[2 * w + a - 1..2 * w + b - 1];
+        let a_below = &before[3 * w + a + 1..3 * w + b + 1];
         for i in 0..n {
             let ox = pos(x_own[i]) + pos(-x_left[i]);
             let oy = pos(y_own[i]) + pos(-y_below[i]);
@@ -1251,56 +1255,70 @@ fn limiter_row<const DIAG: bool>(
     }
 }
 
-/// F(j): each pipe of row j scaled by K of its upwind column: the owner's K for a positive flow, the
-/// other end's for a negative one (`k_own`, `k_up`: padded K of rows j and j + 1).
-fn finalize_row<const DIAG: bool>(
+/// F(j) on padded columns [a, b): each pipe of row j scaled by K of its upwind column, the owner's
+/// (`k_own`, row j) for a positive flow, the other end's (`k_own` at p + 1, or `k_up`, row j + 1) for a
+/// negative one: max(q, 0)·K_owner + min(q, 0)·K_other, where one term is an exact zero, so this is
+/// exactly q·K_upwind without a branch.
+fn finalize<const DIAG: bool>(
     qf: &mut [f64],
     qn: &[f64],
     k_own: &[f64],
     k_up: &[f64],
     w: usize,
+    a: usize,
+    b: usize,
 ) {
-    let n = w - 2;
-    // max(q, 0)·K_owner + min(q, 0)·K_other: one of the two terms is an exact zero, so this is
-    // exactly q·K_upwind, without a branch or a select.
-    let scale = |f: &mut [f64], q: &[f64], kd: &[f64], ku: &[f64]| {
-        let (f, q, kd, ku) = (&mut f[..n], &q[..n], &kd[..n], &ku[..n]);
+    let n = b - a;
+    let kd = &k_own[a..b];
+    let scale = |f: &mut [f64], q: &[f64], ku: &[f64]| {
+        let (f, q, ku) = (&mut f[..n], &q[..n], &ku[..n]);
         for i in 0..n {
             f[i] = pos(q[i]) * kd[i] + neg(q[i]) * ku[i];
         }
     };
-    let kd = &k_own[1..];
     let (fx, rest) = qf.split_at_mut(w);
     let (fy, rest) = rest.split_at_mut(w);
-    scale(&mut fx[1..], &qn[1..], kd, &k_own[2..]);
-    scale(&mut fy[1..], &qn[w + 1..], kd, &k_up[1..]);
+    scale(&mut fx[a..b], &qn[a..b], &k_own[a + 1..b + 1]);
+    scale(&mut fy[a..b], &qn[w + a..w + b], &k_up[a..b]);
     if DIAG {
         let (fd, fa) = rest.split_at_mut(w);
-        scale(&mut fd[1..], &qn[2 * w + 1..], kd, &k_up[2..]);
-        scale(&mut fa[1..], &qn[3 * w + 1..], kd, k_up);
+        scale(
+            &mut fd[a..b],
+            &qn[2 * w + a..2 * w + b],
+            &k_up[a + 1..b + 1],
+        );
+        scale(
+            &mut fa[a..b],
+            &qn[3 * w + a..3 * w + b],
+            &k_up[a - 1..b - 1],
+        );
     }
 }
 
-/// D(j): depth + β·Σ(inflow − outflow), summed in pairs of opposite pipes; then the paper's eq. 41
-/// clamp if asked.
-fn depth_row<const DIAG: bool>(
+/// D(j) on padded columns [a, b): depth + β·Σ(inflow − outflow) from the limited flows of row j
+/// (`own`) and row j − 1 (`before`), pipes in opposite pairs; then the paper's eq. 41 clamp if asked.
+#[allow(clippy::too_many_arguments)]
+fn depth<const DIAG: bool>(
     d: &mut [f64],
     own: &[f64],
     before: &[f64],
     w: usize,
     beta: f64,
     clamp: bool,
+    a: usize,
+    b: usize,
 ) {
-    let n = d.len();
-    let x_own = &own[1..=n];
-    let x_left = &own[..n];
-    let y_own = &own[w + 1..w + 1 + n];
-    let y_below = &before[w + 1..w + 1 + n];
+    let n = b - a;
+    let d = &mut d[a..b];
+    let x_own = &own[a..b];
+    let x_left = &own[a - 1..b - 1];
+    let y_own = &own[w + a..w + b];
+    let y_below = &before[w + a..w + b];
     if DIAG {
-        let d_own = &own[2 * w + 1..2 * w + 1 + n];
-        let a_own = &own[3 * w + 1..3 * w + 1 + n];
-        let d_below = &before[2 * w..2 * w + n];
-        let a_below = &before[3 * w + 2..3 * w + 2 + n];
+        let d_own = &own[2 * w + a..2 * w + b];
+        let a_own = &own[3 * w + a..3 * w + b];
+        let d_below = &before[2 * w + a - 1..2 * w + b - 1];
+        let a_below = &before[3 * w + a + 1..3 * w + b + 1];
         for i in 0..n {
             let sx = x_left[i] - x_own[i];
             let sy = y_below[i] - y_own[i];
@@ -1366,6 +1384,28 @@ mod tests {
             w.deposit_impulse(f * nx as f64, (1.0 - f) * ny as f64, 3e4);
             w.deposit_impulse_cell(1, ny - 1, 1e4);
             w.step();
+        }
+    }
+
+    /// The segmented row pipeline gives the same bits for any segment length.
+    #[test]
+    fn any_segment_length_gives_the_same_result() {
+        for diag in [false, true] {
+            for limiter in [Limiter::MassConserving, Limiter::PaperClamp] {
+                let mut reference = grid(23, 9, diag, limiter);
+                scene(&mut reference, 60);
+                for seg in [1, 2, 3, 7, 22, 23] {
+                    let mut w = grid(23, 9, diag, limiter);
+                    w.co.seg = seg;
+                    w.set_chunk_rows(Some(3));
+                    scene(&mut w, 60);
+                    assert_eq!(
+                        bits(&w),
+                        bits(&reference),
+                        "diag {diag} {limiter:?} seg {seg}"
+                    );
+                }
+            }
         }
     }
 

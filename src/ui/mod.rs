@@ -96,6 +96,8 @@ pub struct ViewSettings {
     pub show_splashes: bool,
     /// Multiplies the water's slopes in the shading (1 = true to the simulation).
     pub ripple_gain: f32,
+    /// Resolution of the 3D view while the run animates (stills are drawn at full resolution).
+    pub render_scale: f32,
 }
 
 impl Default for ViewSettings {
@@ -108,6 +110,7 @@ impl Default for ViewSettings {
             show_markers: true,
             show_splashes: true,
             ripple_gain: 1.0,
+            render_scale: 1.0,
         }
     }
 }
@@ -134,7 +137,10 @@ pub struct Readouts {
 /// Where the frame time goes (milliseconds, smoothed).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct FrameTiming {
+    /// Work done in a frame (everything below, and the rest).
     pub frame_ms: f64,
+    /// Real time between frames while animating (1000 / fps).
+    pub interval_ms: f64,
     /// Stone ticks (integration, contact, forces).
     pub physics_ms: f64,
     /// Water grid steps and copying η for the GPU.

@@ -150,7 +150,12 @@ pub fn plots_ui(ui: &mut Ui, series: &PlotSeries, now: f64) {
             egui::Color32::from_rgb(140, 230, 140),
         ),
     ];
+    // At most two points (the lowest and highest) per pixel column: the same picture for a
+    // fraction of the triangles (every one costs on a software rasteriser).
+    let buckets = ui.available_width().max(50.0) as usize;
+    let x1 = now.max(0.1);
     for (id, label, data, color) in plots {
+        let shown = decimate(data, 0.0, x1, buckets);
         ui.label(RichText::new(label).small());
         Plot::new(id)
             .height(78.0)
@@ -163,19 +168,74 @@ pub fn plots_ui(ui: &mut Ui, series: &PlotSeries, now: f64) {
             .include_y(0.0)
             .show_axes([id == "wetted", true])
             .show(ui, |plot| {
-                plot.line(Line::new(label, PlotPoints::Borrowed(data)).color(color));
+                plot.line(Line::new(label, PlotPoints::Owned(shown)).color(color));
             });
     }
 }
 
+/// The points of a time series (sorted by x) as drawn in `buckets` columns over [x0, x1]: each
+/// column's lowest and highest point, in order; all points when there are few.
+pub fn decimate(data: &[PlotPoint], x0: f64, x1: f64, buckets: usize) -> Vec<PlotPoint> {
+    if data.len() <= 2 * buckets.max(1) || x1 <= x0 {
+        return data.to_vec();
+    }
+    let width = (x1 - x0) / buckets as f64;
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    let mut current: Option<(i64, PlotPoint, PlotPoint)> = None;
+    let flush = |out: &mut Vec<PlotPoint>, lo: PlotPoint, hi: PlotPoint| {
+        if lo.x <= hi.x {
+            out.push(lo);
+            if hi.x != lo.x || hi.y != lo.y {
+                out.push(hi);
+            }
+        } else {
+            out.push(hi);
+            out.push(lo);
+        }
+    };
+    for &p in data {
+        let b = ((p.x - x0) / width).floor() as i64;
+        match current.as_mut() {
+            Some((cb, lo, hi)) if *cb == b => {
+                if p.y < lo.y {
+                    *lo = p;
+                }
+                if p.y > hi.y {
+                    *hi = p;
+                }
+            }
+            _ => {
+                if let Some((_, lo, hi)) = current.take() {
+                    flush(&mut out, lo, hi);
+                }
+                current = Some((b, p, p));
+            }
+        }
+    }
+    if let Some((_, lo, hi)) = current {
+        flush(&mut out, lo, hi);
+    }
+    if let (Some(&last), Some(&end)) = (out.last(), data.last()) {
+        if last.x != end.x {
+            out.push(end);
+        }
+    }
+    out
+}
+
 /// Where the frame time goes.
 pub fn timing_ui(ui: &mut Ui, t: &FrameTiming, adapter: &str) {
-    let fps = if t.frame_ms > 0.0 {
-        1000.0 / t.frame_ms
-    } else {
-        0.0
-    };
-    ui.label(RichText::new(format!("{fps:.0} fps ({:.1} ms a frame)", t.frame_ms)).strong());
+    if t.interval_ms > 0.0 {
+        ui.label(
+            RichText::new(format!(
+                "{:.0} fps ({:.1} ms between frames)",
+                1000.0 / t.interval_ms,
+                t.interval_ms
+            ))
+            .strong(),
+        );
+    }
+    ui.label(format!("{:.1} ms of work a frame:", t.frame_ms));
     let total = t.frame_ms.max(1e-6);
     for (name, ms, color, tip) in [
         (
@@ -231,4 +291,21 @@ pub fn export_ui(ui: &mut Ui, has_samples: bool, actions: &mut Vec<Action>) {
             actions.push(Action::Screenshot);
         }
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decimation_keeps_extremes_in_order() {
+        let data: Vec<PlotPoint> = (0..10_000)
+            .map(|i| PlotPoint::new(i as f64 * 1e-3, if i == 5_000 { 9.0 } else { (i % 7) as f64 }))
+            .collect();
+        let d = decimate(&data, 0.0, 10.0, 100);
+        assert!(d.len() <= 202);
+        assert!(d.windows(2).all(|w| w[0].x <= w[1].x));
+        assert!(d.iter().any(|p| p.y == 9.0));
+        assert_eq!(d.last().map(|p| p.x), data.last().map(|p| p.x));
+    }
 }

@@ -522,4 +522,15 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
                 .suffix("×"),
         );
     });
+    ui.horizontal(|ui| {
+        ui.label("Render scale").on_hover_text(
+            "Resolution of the 3D view while the throw animates (stills are always sharp); \
+             lower it on a software renderer for a smoother picture",
+        );
+        ui.add(
+            Slider::new(&mut view.render_scale, 0.25..=1.0)
+                .clamping(SliderClamping::Always)
+                .custom_formatter(|v, _| format!("{:.0} %", v * 100.0)),
+        );
+    });
 }
