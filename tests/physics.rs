@@ -288,16 +288,29 @@ fn deterministic() {
 /// The lake fitted to the throw covers the whole track and is smaller than the default lake.
 #[test]
 fn water_fitted_to_the_throw_covers_it() {
-    let p = stoneskip::preset::load(std::path::Path::new("assets/presets/magic_angle.ron")).unwrap();
+    let p =
+        stoneskip::preset::load(std::path::Path::new("assets/presets/magic_angle.ron")).unwrap();
     let fitted = stoneskip::sim::scenario::fit_water_to_throw(&p, 2.0).unwrap();
     let area = |q: &Preset| q.water.size[0] * q.water.size[1];
-    assert!(area(&fitted) < area(&p), "{:?} vs {:?}", fitted.water.size, p.water.size);
+    assert!(
+        area(&fitted) < area(&p),
+        "{:?} vs {:?}",
+        fitted.water.size,
+        p.water.size
+    );
     let s = stoneskip::sim::simulate(&fitted).unwrap();
-    assert_eq!(s.outcome, Some(Outcome::Sank), "never leaves the fitted lake");
+    assert_eq!(
+        s.outcome,
+        Some(Outcome::Sank),
+        "never leaves the fitted lake"
+    );
     let dry = {
         let mut d = p.clone();
         d.water.enabled = false;
         stoneskip::sim::simulate(&d).unwrap()
     };
-    assert_eq!(s.skips, dry.skips, "the water does not change a flat-contact throw");
+    assert_eq!(
+        s.skips, dry.skips,
+        "the water does not change a flat-contact throw"
+    );
 }
