@@ -102,13 +102,16 @@ fn fs_water(in: WaterOut) -> @location(0) vec4<f32> {
     let body = deep + scatter * (0.35 + 0.65 * lit) + vec3<f32>(0.05, 0.08, 0.07) * clamp(eta * 40.0, 0.0, 1.0);
     var c = mix(body, reflected, fresnel);
 
-    // Sun highlight: a sharp glint (power 1200) and a broad sheen (power 120).
+    // Sun highlight: a sharp glint (power ~4000: the sun's own reflection, broken up by the
+    // ripples into sparkles) and a broad sheen (power 120).
     let h = normalize(sun + v);
     let sheen = pow(max(dot(n, h), 0.0), 120.0);
     let s2 = sheen * sheen;
-    let s8 = s2 * s2 * s2 * s2;
-    let glint = s8 * s2;
-    let spec = glint * 12.0 + sheen * 0.12;
+    let s4 = s2 * s2;
+    let s8 = s4 * s4;
+    let s16 = s8 * s8;
+    let glint = s16 * s16 * sheen;
+    let spec = glint * 25.0 + sheen * 0.15;
     c += vec3<f32>(1.0, 0.92, 0.78) * spec * g.sun_dir.w * (0.3 + fresnel);
 
     // Haze towards the horizon.

@@ -33,8 +33,8 @@ use crate::ui::{
     ViewRequest, ViewSettings,
 };
 
-/// Most simulated time one frame may run (s); the rest is dropped.
-pub const MAX_SIM_PER_FRAME: f64 = 0.1;
+/// Most simulated time one frame may run (s, before slow motion); the rest is dropped.
+pub const MAX_SIM_PER_FRAME: f64 = 0.25;
 /// Most wall time one frame may spend ticking.
 pub const PHYSICS_BUDGET: Duration = Duration::from_millis(60);
 /// Most step samples kept for the CSV export.
@@ -50,8 +50,6 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
         None => default_preset(),
     };
     let mut model = Model::new(initial, source)?;
-    if std::env::var("NOPANELS").is_ok() { model.view.show_settings = false; model.view.show_readouts = false; }
-    if std::env::var("NOREADOUTS").is_ok() { model.view.show_readouts = false; }
     if std::env::var("STONESKIP_AUTOTHROW").is_ok_and(|v| v == "1") {
         model.throw();
     }
@@ -120,13 +118,17 @@ struct Gfx {
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
     adapter: String,
+    /// The frame is drawn here first (see [`canvas_view`]).
+    canvas: Option<((u32, u32), wgpu::Texture, wgpu::TextureView)>,
+    /// egui's output last frame (see [`ui_fingerprint`]).
+    ui_fingerprint: Option<u64>,
 }
 
 impl Gfx {
     fn new(event_loop: &ActiveEventLoop, title: &str) -> Result<Self> {
         let attrs = Window::default_attributes()
             .with_title(title)
-            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0))
+            .with_inner_size(window_size())
             .with_min_inner_size(winit::dpi::LogicalSize::new(640.0, 400.0));
         let window = Arc::new(
             event_loop
@@ -169,7 +171,9 @@ impl Gfx {
         };
         let size = window.inner_size();
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            // Copying the finished frame in is cheaper than drawing it in, where allowed.
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | (caps.usages & wgpu::TextureUsages::COPY_DST),
             format,
             color_space: wgpu::SurfaceColorSpace::Auto,
             width: size.width.max(1),
@@ -236,6 +240,8 @@ impl Gfx {
             egui_state,
             egui_renderer,
             adapter: adapter_name,
+            canvas: None,
+            ui_fingerprint: None,
         })
     }
 
@@ -246,6 +252,20 @@ impl Gfx {
         self.config.width = width;
         self.config.height = height;
         self.surface.configure(&self.gpu.device, &self.config);
+    }
+}
+
+/// The window's first size: `STONESKIP_WINDOW_SIZE=WxH` (e.g. 1280x720), else 1280 × 800.
+fn window_size() -> winit::dpi::LogicalSize<f64> {
+    let parsed = std::env::var("STONESKIP_WINDOW_SIZE").ok().and_then(|v| {
+        let (w, h) = v.split_once('x')?;
+        Some((w.trim().parse::<f64>().ok()?, h.trim().parse::<f64>().ok()?))
+    });
+    match parsed {
+        Some((w, h)) if (320.0..=8192.0).contains(&w) && (240.0..=8192.0).contains(&h) => {
+            winit::dpi::LogicalSize::new(w, h)
+        }
+        _ => winit::dpi::LogicalSize::new(1280.0, 800.0),
     }
 }
 
@@ -310,7 +330,38 @@ struct Model {
     frame_water: f64,
     frames: u64,
     stats: FrameStats,
+    shown: Shown,
+    /// What the last frame redrew.
+    last_redraw: Redraw,
+    /// When the user last moved the camera (frames drawn then may use the reduced resolution).
+    camera_moved_at: Option<Instant>,
+    /// The last frame was drawn at a reduced resolution although nothing animates: draw a sharp one.
+    sharp_pending: bool,
 }
+
+/// What the panels show of the run, refreshed at most [`READOUT_HZ`] times a second while the
+/// throw animates: the panels then stay pixel-identical between refreshes and only the 3D view
+/// is redrawn (software rasterisers pay for every panel pixel).
+#[derive(Debug, Clone, Default)]
+struct Shown {
+    readouts: Readouts,
+    contacts: Vec<crate::sim::ContactEvent>,
+    plots: [Vec<egui_plot::PlotPoint>; 3],
+    plot_end: f64,
+    timing: FrameTiming,
+    outcome: Option<&'static str>,
+    dropping_now: bool,
+    dropped_total: f64,
+    at: Option<Instant>,
+    /// Frame number of the snapshot.
+    frame: u64,
+}
+
+/// Refresh rate of the numbers and plots while a throw animates …
+pub const READOUT_HZ: f64 = 4.0;
+/// … and the fewest frames between two refreshes (a slow renderer still gets frames that redraw
+/// only the 3D view).
+pub const READOUT_MIN_FRAMES: u64 = 4;
 
 /// Frame time totals (s) for the `--frames` report.
 #[derive(Debug, Clone, Copy, Default)]
@@ -321,6 +372,9 @@ struct FrameStats {
     water: f64,
     render: f64,
     ui: f64,
+    /// Frames that redrew the panels too, and their render time (s).
+    full_redraws: u64,
+    full_render: f64,
 }
 
 impl Model {
@@ -365,6 +419,10 @@ impl Model {
             frame_water: 0.0,
             frames: 0,
             stats: FrameStats::default(),
+            shown: Shown::default(),
+            last_redraw: Redraw::Full,
+            camera_moved_at: None,
+            sharp_pending: false,
         };
         m.start_run();
         Ok(m)
@@ -554,6 +612,17 @@ impl Model {
         )
     }
 
+    /// The user is moving the camera (within the last quarter second).
+    fn camera_moving(&self) -> bool {
+        self.camera_moved_at
+            .is_some_and(|t| t.elapsed() < Duration::from_millis(250))
+    }
+
+    /// Frames are being drawn one after another: the run animates, the camera moves or follows.
+    fn animating(&self) -> bool {
+        self.phase == Phase::Running || self.view.follow || self.camera_moving()
+    }
+
     fn view_aspect(&self) -> f32 {
         self.view_rect.width() / self.view_rect.height().max(1.0)
     }
@@ -571,6 +640,7 @@ impl Model {
     }
 
     fn apply_view(&mut self, req: ViewRequest) {
+        self.camera_moved_at = Some(Instant::now());
         let aspect = self.view_aspect();
         match req {
             ViewRequest::Default => {
@@ -591,7 +661,7 @@ impl Model {
     }
 
     fn load_preset(&mut self, path: &Path) {
-        match preset::load(path) {
+        let message = match preset::load(path) {
             Ok(p) => match Simulation::new(&p) {
                 Ok(_) => {
                     self.edit = p;
@@ -602,16 +672,16 @@ impl Model {
                     self.physics_log.clear();
                     self.camera = Camera::default_for(&self.edit);
                     self.view.follow = false;
-                    self.library.message =
-                        Some(Message::info(format!("loaded {}", path.display())));
+                    self.invalid = None;
+                    Message::info(format!("loaded {}", path.display()))
                 }
-                Err(e) => {
-                    self.library.message = Some(Message::error(format!("{}: {e}", path.display())));
-                }
+                Err(e) => Message::error(format!("{}: {e}", path.display())),
             },
             // The error names file:line:col; the current scene stays as it is.
-            Err(e) => self.library.message = Some(Message::error(e.to_string())),
-        }
+            Err(e) => Message::error(format!("preset not loaded: {e}")),
+        };
+        self.library.message = Some(message.clone());
+        self.status = Some(message);
     }
 
     fn save_preset(&mut self, name: &str) {
@@ -746,6 +816,39 @@ impl Model {
         }
     }
 
+    /// Takes a new snapshot of what the panels show (every frame when still, at
+    /// [`READOUT_HZ`] while running).
+    fn refresh_shown(&mut self) {
+        let due = self.phase != Phase::Running
+            || self.shown.at.map_or(true, |t| {
+                t.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
+                    && self.frames >= self.shown.frame + READOUT_MIN_FRAMES
+            });
+        if !due {
+            return;
+        }
+        // After the outcome only the water moves: keep the stone's run in the plots.
+        let end = if self.sim.is_finished() {
+            self.sim.summary().final_time
+        } else {
+            self.sim.time()
+        };
+        self.shown = Shown {
+            readouts: self.readouts(),
+            contacts: self.sim.contacts().to_vec(),
+            plots: self.plots.decimated(400, end),
+            plot_end: end,
+            timing: self.timing,
+            outcome: self.sim.outcome().map(|o| o.as_str()),
+            dropping_now: self
+                .last_drop
+                .is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
+            dropped_total: self.dropped_total,
+            at: Some(Instant::now()),
+            frame: self.frames,
+        };
+    }
+
     fn readouts(&self) -> Readouts {
         let s = self.sim.state();
         let f = self.sim.last_force();
@@ -798,16 +901,15 @@ impl Model {
                 }
             });
         }
+        self.refresh_shown();
         let mut controls = SimControls {
             phase: self.phase,
             speed: self.speed,
-            time: self.sim.time(),
-            outcome: self.sim.outcome().map(|o| o.as_str()),
+            time: self.shown.readouts.time,
+            outcome: self.shown.outcome,
             pending_changes: self.pending_changes,
-            dropped_total: self.dropped_total,
-            dropping_now: self
-                .last_drop
-                .is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
+            dropped_total: self.shown.dropped_total,
+            dropping_now: self.shown.dropping_now,
             can_replay: self.last_throw.is_some(),
             invalid: self.invalid.clone(),
         };
@@ -840,7 +942,7 @@ impl Model {
                 });
         }
         if self.view.show_readouts {
-            let readouts = self.readouts();
+            let shown = &self.shown;
             egui::Panel::right("readouts")
                 .default_size(320.0)
                 .resizable(true)
@@ -848,24 +950,16 @@ impl Model {
                     egui::ScrollArea::vertical().show(ui, |ui| {
                         egui::CollapsingHeader::new(egui::RichText::new("Readouts").heading())
                             .default_open(true)
-                            .show(ui, |ui| ui::readouts_ui(ui, &readouts));
+                            .show(ui, |ui| ui::readouts_ui(ui, &shown.readouts));
                         egui::CollapsingHeader::new(egui::RichText::new("Contacts").heading())
                             .default_open(true)
-                            .show(ui, |ui| ui::contacts_ui(ui, self.sim.contacts()));
+                            .show(ui, |ui| ui::contacts_ui(ui, &shown.contacts));
                         egui::CollapsingHeader::new(egui::RichText::new("Plots").heading())
                             .default_open(true)
-                            .show(ui, |ui| {
-                                // After the outcome only the water moves: keep the stone's run in view.
-                                let end = if self.sim.is_finished() {
-                                    self.sim.summary().final_time
-                                } else {
-                                    self.sim.time()
-                                };
-                                ui::plots_ui(ui, &self.plots, end)
-                            });
+                            .show(ui, |ui| ui::plots_ui(ui, &shown.plots, shown.plot_end));
                         egui::CollapsingHeader::new(egui::RichText::new("Frame time").heading())
                             .default_open(true)
-                            .show(ui, |ui| ui::timing_ui(ui, &self.timing, adapter));
+                            .show(ui, |ui| ui::timing_ui(ui, &shown.timing, adapter));
                         egui::CollapsingHeader::new(egui::RichText::new("Export").heading())
                             .default_open(true)
                             .show(ui, |ui| ui::export_ui(ui, self.samples.len() > 1, actions));
@@ -925,6 +1019,9 @@ impl Model {
         self.view_rect = rect;
         let resp = ui.allocate_rect(rect, egui::Sense::click_and_drag());
         let delta = resp.drag_delta();
+        if resp.dragged() && delta != egui::Vec2::ZERO {
+            self.camera_moved_at = Some(Instant::now());
+        }
         if resp.dragged_by(egui::PointerButton::Primary) {
             self.camera.orbit(-delta.x * 0.006, -delta.y * 0.006);
         } else if resp.dragged_by(egui::PointerButton::Secondary)
@@ -937,6 +1034,7 @@ impl Model {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 self.camera.zoom((-scroll * 0.0025).exp());
+                self.camera_moved_at = Some(Instant::now());
             }
         }
         if resp.double_clicked() {
@@ -945,9 +1043,13 @@ impl Model {
         let painter = ui.painter_at(rect);
         let score = format!(
             "{} skip{}   {:.2} m",
-            self.sim.skips(),
-            if self.sim.skips() == 1 { "" } else { "s" },
-            self.sim.distance()
+            self.shown.readouts.skips,
+            if self.shown.readouts.skips == 1 {
+                ""
+            } else {
+                "s"
+            },
+            self.shown.readouts.distance
         );
         let pos = rect.left_top() + egui::vec2(14.0, 10.0);
         painter.text(
@@ -1053,8 +1155,7 @@ impl App {
                 0.9 * old + 0.1 * new
             }
         };
-        let continuous =
-            self.frames_limit.is_some() || model.phase == Phase::Running || model.view.follow;
+        let continuous = self.frames_limit.is_some() || model.animating();
         let t = &mut model.timing;
         t.frame_ms = smooth(t.frame_ms, 1000.0 * frame_s);
         if continuous && real_dt > 0.0 {
@@ -1073,6 +1174,10 @@ impl App {
             st.water += model.frame_water;
             st.render += render_s;
             st.ui += ui_s;
+            if model.last_redraw == Redraw::Full {
+                st.full_redraws += 1;
+                st.full_render += render_s;
+            }
         }
         model.frames += 1;
 
@@ -1082,7 +1187,7 @@ impl App {
                 let st = &model.stats;
                 let n = st.frames.max(1) as f64;
                 eprintln!(
-                    "stoneskip: {} frames at {}x{}; mean over the last {}: {:.1} fps ({:.2} ms a frame): physics {:.2} ms, water {:.2} ms, render {:.2} ms, panels {:.2} ms; {} ticks, {:.3} s simulated, {:.3} s dropped; {}",
+                    "stoneskip: {} frames at {}x{}; mean over the last {}: {:.1} fps ({:.2} ms a frame): physics {:.2} ms, water {:.2} ms, render {:.2} ms ({} full redraws at {:.2} ms, the rest {:.2} ms), panels {:.2} ms; {} ticks, {:.3} s simulated, {:.3} s dropped; {}",
                     self.frames_drawn,
                     gfx.config.width,
                     gfx.config.height,
@@ -1092,6 +1197,9 @@ impl App {
                     1000.0 * st.physics / n,
                     1000.0 * st.water / n,
                     1000.0 * st.render / n,
+                    st.full_redraws,
+                    1000.0 * st.full_render / st.full_redraws.max(1) as f64,
+                    1000.0 * (st.render - st.full_render) / (st.frames - st.full_redraws).max(1) as f64,
                     1000.0 * st.ui / n,
                     model.ticks,
                     model.sim.time(),
@@ -1114,6 +1222,7 @@ fn draw(
 ) -> Result<()> {
     let device = &gfx.gpu.device;
     let queue = &gfx.gpu.queue;
+    let textures_changed = !textures.set.is_empty() || !textures.free.is_empty();
     for (id, deltas) in textures.set.drain() {
         for d in deltas {
             gfx.egui_renderer.update_texture(device, queue, id, &d);
@@ -1137,8 +1246,61 @@ fn draw(
             .texture
             .create_view(&wgpu::TextureViewDescriptor::default());
         let size = (gfx.config.width, gfx.config.height);
-        let extra = render_frame(gfx, model, prims, ppp, &view, size, false);
-        gfx.gpu.queue.submit(extra);
+        // Everything is drawn into an ordinary texture, then copied to the window by a
+        // write-only pass: blending straight into a software swapchain image reads it back, which
+        // lavapipe makes very slow (the panels cost 5× more).
+        let fresh_canvas = gfx.canvas.as_ref().map_or(true, |(s, _, _)| *s != size);
+        let (canvas_tex, canvas) = canvas_view(gfx, size);
+        // Software rasterisers without MSAA redraw only the 3D view while the panels are unchanged.
+        let fingerprint = ui_fingerprint(prims, ppp);
+        let redraw = if gfx.scene.config().sample_count == 1
+            && !fresh_canvas
+            && !textures_changed
+            && gfx.ui_fingerprint == Some(fingerprint)
+        {
+            Redraw::ViewOnly
+        } else {
+            Redraw::Full
+        };
+        gfx.ui_fingerprint = Some(fingerprint);
+        model.last_redraw = redraw;
+        // A reduced-resolution frame of a still scene: follow it with a sharp one.
+        model.sharp_pending =
+            model.animating() && model.view.render_scale < 1.0 && model.phase != Phase::Running;
+        let mut bufs = render_frame(
+            gfx,
+            model,
+            prims,
+            ppp,
+            FrameTarget {
+                view: &canvas,
+                size,
+                full_res: false,
+                redraw,
+            },
+        );
+        let mut encoder = gfx
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("present"),
+            });
+        if gfx.config.usage.contains(wgpu::TextureUsages::COPY_DST) {
+            encoder.copy_texture_to_texture(
+                canvas_tex.as_image_copy(),
+                frame.texture.as_image_copy(),
+                wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+            );
+        } else {
+            gfx.scene
+                .blit_to(&gfx.gpu.device, &mut encoder, &canvas, &view);
+        }
+        bufs.push(encoder.finish());
+        gfx.gpu.queue.submit(bufs);
         gfx.gpu.queue.present(frame);
     }
     if std::mem::take(&mut model.screenshot) {
@@ -1153,16 +1315,58 @@ fn draw(
     Ok(())
 }
 
-/// Records the scene and the panels into `target`; returns the command buffers to submit.
+/// The window-sized texture every frame is drawn into before it is copied to the window; it keeps
+/// the panels' pixels between frames.
+fn canvas_view(gfx: &mut Gfx, size: (u32, u32)) -> (wgpu::Texture, wgpu::TextureView) {
+    if let Some((s, tex, view)) = &gfx.canvas {
+        if *s == size {
+            return (tex.clone(), view.clone());
+        }
+    }
+    let tex = gfx.gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("canvas"),
+        size: wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: gfx.config.format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = tex.create_view(&wgpu::TextureViewDescriptor::default());
+    gfx.canvas = Some((size, tex.clone(), view.clone()));
+    (tex, view)
+}
+
+/// Where and how a frame is drawn.
+struct FrameTarget<'a> {
+    view: &'a wgpu::TextureView,
+    size: (u32, u32),
+    /// The 3D view at full resolution even while animating (screenshots).
+    full_res: bool,
+    redraw: Redraw,
+}
+
+/// Records the scene and the panels into the target; returns the command buffers to submit.
 fn render_frame(
     gfx: &mut Gfx,
     model: &Model,
     prims: &[egui::ClippedPrimitive],
     ppp: f32,
-    target: &wgpu::TextureView,
-    size: (u32, u32),
-    full_res: bool,
+    out: FrameTarget,
 ) -> Vec<wgpu::CommandBuffer> {
+    let FrameTarget {
+        view: target,
+        size,
+        full_res,
+        redraw,
+    } = out;
     let device = &gfx.gpu.device;
     let queue = &gfx.gpu.queue;
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -1176,11 +1380,13 @@ fn render_frame(
         height: (r.height() * ppp).max(1.0),
     };
     let scene = model.scene();
-    let scale = if model.phase == Phase::Running && !full_res {
+    // Reduced resolution while things move (stills are always sharp).
+    let scale = if model.animating() && !full_res {
         model.view.render_scale
     } else {
         1.0
     };
+
     gfx.scene.set_render_scale(scale);
     gfx.scene.render(
         device,
@@ -1190,16 +1396,35 @@ fn render_frame(
         size,
         viewport,
         &scene,
-        wgpu::Color {
+        (redraw == Redraw::Full).then_some(wgpu::Color {
             r: 0.1,
             g: 0.1,
             b: 0.11,
             a: 1.0,
-        },
+        }),
     );
     let screen = egui_wgpu::ScreenDescriptor {
         size_in_pixels: [size.0, size.1],
         pixels_per_point: ppp,
+    };
+    // A partial redraw keeps the panels' pixels: only what egui draws over the 3D view is drawn
+    // again, clipped to it.
+    let clipped: Vec<egui::ClippedPrimitive>;
+    let prims = match redraw {
+        Redraw::Full => prims,
+        Redraw::ViewOnly => {
+            clipped = prims
+                .iter()
+                .filter_map(|p| {
+                    let clip = p.clip_rect.intersect(r);
+                    (clip.is_positive()).then(|| egui::ClippedPrimitive {
+                        clip_rect: clip,
+                        primitive: p.primitive.clone(),
+                    })
+                })
+                .collect();
+            &clipped
+        }
     };
     let mut bufs = gfx
         .egui_renderer
@@ -1229,6 +1454,41 @@ fn render_frame(
     bufs
 }
 
+/// How much of the window a frame draws again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Redraw {
+    Full,
+    /// The 3D view and what lies over it; the panels' pixels are the last frame's.
+    ViewOnly,
+}
+
+/// A fingerprint of egui's output: equal fingerprints draw equal pixels.
+fn ui_fingerprint(prims: &[egui::ClippedPrimitive], ppp: f32) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    ppp.to_bits().hash(&mut h);
+    for p in prims {
+        for v in [
+            p.clip_rect.min.x,
+            p.clip_rect.min.y,
+            p.clip_rect.max.x,
+            p.clip_rect.max.y,
+        ] {
+            v.to_bits().hash(&mut h);
+        }
+        match &p.primitive {
+            egui::epaint::Primitive::Mesh(m) => {
+                m.texture_id.hash(&mut h);
+                bytemuck::cast_slice::<egui::epaint::Vertex, u8>(&m.vertices).hash(&mut h);
+                m.indices.hash(&mut h);
+            }
+            // Callbacks draw what they like: never equal.
+            egui::epaint::Primitive::Callback(_) => Instant::now().hash(&mut h),
+        }
+    }
+    h.finish()
+}
+
 /// Draws the whole window (scene and panels) into a texture and saves it as a PNG in the current
 /// directory.
 fn screenshot(
@@ -1254,7 +1514,18 @@ fn screenshot(
         view_formats: &[],
     });
     let view = tex.create_view(&wgpu::TextureViewDescriptor::default());
-    let bufs = render_frame(gfx, model, prims, ppp, &view, (w, h), true);
+    let bufs = render_frame(
+        gfx,
+        model,
+        prims,
+        ppp,
+        FrameTarget {
+            view: &view,
+            size: (w, h),
+            full_res: true,
+            redraw: Redraw::Full,
+        },
+    );
     gfx.gpu.queue.submit(bufs);
     let mut pixels = read_rgba8(&gfx.gpu.device, &gfx.gpu.queue, &tex, w, h)?;
     if matches!(
@@ -1321,9 +1592,8 @@ impl ApplicationHandler for App {
         let Some(gfx) = self.gfx.as_ref() else {
             return;
         };
-        let continuous = self.frames_limit.is_some()
-            || self.model.phase == Phase::Running
-            || self.model.view.follow;
+        let continuous =
+            self.frames_limit.is_some() || self.model.animating() || self.model.sharp_pending;
         let now = Instant::now();
         if continuous || self.repaint_at.is_some_and(|t| t <= now) {
             event_loop.set_control_flow(ControlFlow::Poll);

@@ -13,15 +13,14 @@ use crate::sim::params::Preset;
 pub const FOV_Y: f32 = 50.0 * std::f32::consts::PI / 180.0;
 /// Near clipping distance (m).
 pub const NEAR: f32 = 0.02;
-/// Pitch of the default view below the horizontal (radians): the horizon sits at 0.53 of the
-/// half-height above the centre, about a quarter from the top (the upper third).
-pub const DEFAULT_PITCH: f32 = -14.0 * std::f32::consts::PI / 180.0;
 /// Lowest eye height the controls allow (m): the view stays above the water.
 pub const MIN_EYE_HEIGHT: f32 = 0.05;
 /// Eye of the default view: this far behind the launch point (m) …
 pub const DEFAULT_BACK: f32 = 2.6;
-/// … and this high above the water (m).
-pub const DEFAULT_HEIGHT: f32 = 1.1;
+/// … and this far above it (m). The view looks down at the launch point, 17° below the
+/// horizontal: the horizon sits at 0.66 of the half-height above the centre, a sixth of the
+/// height from the top (in the upper third), and the throw runs up the middle of the picture.
+pub const DEFAULT_RISE: f32 = 0.8;
 
 /// An orbit camera looking at `target` from `distance` along the direction (yaw, pitch).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,43 +39,31 @@ pub struct Camera {
 
 impl Default for Camera {
     fn default() -> Self {
-        Self::looking(
-            Vec3::new(-DEFAULT_BACK, 0.0, DEFAULT_HEIGHT),
-            0.0,
-            DEFAULT_PITCH,
-        )
+        Self::orbiting(Vec3::ZERO, 0.0)
     }
 }
 
 impl Camera {
-    /// A camera at `eye` looking along (yaw, pitch), its target where the view meets the water (or
-    /// 10 m ahead when it looks up).
-    pub fn looking(eye: Vec3, yaw: f32, pitch: f32) -> Self {
-        let pitch = pitch.clamp(-1.55, 1.55);
-        let dir = direction(yaw, pitch);
-        let distance = if dir.z < -0.05 {
-            (eye.z / -dir.z).clamp(0.5, 200.0)
-        } else {
-            10.0
-        };
-        Self {
-            target: eye + dir * distance,
-            yaw,
-            pitch,
-            distance,
-            fov_y: FOV_Y,
-        }
-    }
-
     /// The default view of a preset (contract): behind and above the launch point, looking along
     /// the throw's heading, the horizon in the upper third.
     pub fn default_for(preset: &Preset) -> Self {
         let l = &preset.launch;
-        let yaw = throw_heading(preset);
-        let back = Vec3::new(yaw.cos(), yaw.sin(), 0.0) * DEFAULT_BACK;
-        let eye = Vec3::new(l.position[0] as f32, l.position[1] as f32, 0.0) - back
-            + Vec3::Z * DEFAULT_HEIGHT;
-        Self::looking(eye, yaw, DEFAULT_PITCH)
+        let launch = Vec3::new(l.position[0] as f32, l.position[1] as f32, l.position[2] as f32);
+        Self::orbiting(launch, throw_heading(preset))
+    }
+
+    /// The default view's geometry about `point`: [`DEFAULT_BACK`] behind it along `yaw`,
+    /// [`DEFAULT_RISE`] above it, looking at it (so orbit and zoom turn about the launch point).
+    fn orbiting(point: Vec3, yaw: f32) -> Self {
+        let mut cam = Self {
+            target: point,
+            yaw,
+            pitch: -(DEFAULT_RISE / DEFAULT_BACK).atan(),
+            distance: DEFAULT_BACK.hypot(DEFAULT_RISE),
+            fov_y: FOV_Y,
+        };
+        cam.keep_above_water();
+        cam
     }
 
     /// Unit view direction.
@@ -170,19 +157,22 @@ impl Camera {
         let extent = ((hi - lo) * Vec3::new(1.0, 1.0, 0.0))
             .dot(along.abs())
             .max(0.5);
-        let height = (hi.z - lo.z).max(0.2);
+        let height = (hi.z - lo.z.max(0.0)).max(0.2);
         let fov = FOV_Y;
         let fit_w = 0.5 * extent / ((0.5 * fov).tan() * aspect.max(0.2));
         let fit_h = 0.5 * height / (0.5 * fov).tan();
-        let distance = 1.15 * fit_w.max(fit_h) + 0.5;
-        // Looking along +90° from the heading: the throw runs left to right.
-        Self {
+        let distance = 1.1 * fit_w.max(fit_h) + 0.5;
+        // Level with the middle of the flight, looking a shade down across the throw (+90° from
+        // its heading), so the path runs left to right above its reflection.
+        let mut cam = Self {
             target: Vec3::new(centre.x, centre.y, 0.5 * (lo.z.max(0.0) + hi.z)),
             yaw: wrap_angle(heading + std::f32::consts::FRAC_PI_2),
-            pitch: -4.0_f32.to_radians(),
+            pitch: -2.0_f32.to_radians(),
             distance,
             fov_y: fov,
-        }
+        };
+        cam.keep_above_water();
+        cam
     }
 
     /// Keeps the view direction, moving target and distance so the box [lo, hi] fits the view.
@@ -236,9 +226,9 @@ mod tests {
         let far = cam.eye() + Vec3::new(5000.0, 0.0, -cam.eye().z);
         let p = cam.project(far, 320, 180).unwrap();
         assert!(p.y < 60.0 && p.y > 0.0, "horizon at y = {}", p.y);
-        // The launch point is in view, below the centre.
+        // The launch point is in the middle of the view.
         let launch = cam.project(Vec3::new(0.0, 0.0, 0.3), 320, 180).unwrap();
-        assert!(launch.x > 100.0 && launch.x < 220.0 && launch.y > 90.0 && launch.y < 180.0);
+        assert!((launch - Vec2::new(160.0, 90.0)).length() < 1.0, "{launch:?}");
     }
 
     #[test]

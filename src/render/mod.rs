@@ -119,3 +119,17 @@ pub fn render_to_png(
         .map_err(RenderError::from)?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_reach_the_time_like_the_app() {
+        assert_eq!(ticks_until(0.0, 0.0005), 0);
+        assert_eq!(ticks_until(0.6, 0.0005), 1200);
+        assert_eq!(ticks_until(0.60001, 0.0005), 1201);
+        assert_eq!(ticks_until(f64::NAN, 0.0005), 0);
+        assert_eq!(ticks_until(1.0, 0.0), 0);
+    }
+}

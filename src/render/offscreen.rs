@@ -117,7 +117,7 @@ impl Offscreen {
             size,
             Viewport::full(width, height),
             scene,
-            wgpu::Color::BLACK,
+            Some(wgpu::Color::BLACK),
         );
         queue.submit(Some(encoder.finish()));
         let pixels = read_rgba8(device, queue, tex, width, height)?;

@@ -205,13 +205,7 @@ pub struct SceneRenderer {
 }
 
 fn shader(device: &wgpu::Device, label: &str, body: &str) -> wgpu::ShaderModule {
-    let mut source = format!("{}\n{}", include_str!("../../shaders/common.wgsl"), body);
-    if let Ok(dir) = std::env::var("TMP_SHADER_DIR") {
-        let file = match label { "water_prep" => "water_prep", l => l };
-        let c = std::fs::read_to_string(format!("{dir}/common.wgsl")).unwrap();
-        let b = std::fs::read_to_string(format!("{dir}/{file}.wgsl")).unwrap();
-        source = format!("{c}\n{b}");
-    }
+    let source = format!("{}\n{}", include_str!("../../shaders/common.wgsl"), body);
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -588,8 +582,10 @@ impl SceneRenderer {
     }
 
     /// Draws `scene` into `target` (a `target_size` texture of the configured format) inside
-    /// `viewport`, clearing the whole target to `clear` first. Records the water preparation pass and
-    /// the scene pass into `encoder`; the caller submits.
+    /// `viewport`. With `clear`, the whole target is cleared to it first; without, the pixels outside
+    /// the viewport are left as they are (the app redraws only its 3D view; not with MSAA, whose
+    /// resolve writes the whole target). Records the water preparation pass and the scene pass
+    /// into `encoder`; the caller submits.
     #[allow(clippy::too_many_arguments)]
     pub fn render(
         &mut self,
@@ -600,9 +596,12 @@ impl SceneRenderer {
         target_size: (u32, u32),
         viewport: Viewport,
         scene: &Scene,
-        clear: wgpu::Color,
+        clear: Option<wgpu::Color>,
     ) {
         let target_size = (target_size.0.max(1), target_size.1.max(1));
+        // The caller's target is cleared or kept; internal targets are always cleared (the sky
+        // covers them).
+        let outer_load = clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear);
         let vp = clamp_viewport(viewport, target_size);
         let scaled = self.render_scale < 0.999;
         // The scene's own resolution: the view's, or a reduced one upscaled at the end.
@@ -620,7 +619,7 @@ impl SceneRenderer {
         let globals = self.globals_for(scene, scene_vp);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         self.upload_trail(device, queue, scene, scene_vp);
-        let (flat_decals, solid_decals) = decals_for(scene);
+        let (flat_decals, solid_decals) = decals_for(scene, scene_vp.height);
         let n_flat = flat_decals.len() as u32;
         let n_solid = solid_decals.len() as u32;
         let mut all = flat_decals;
@@ -639,6 +638,11 @@ impl SceneRenderer {
             Some(ms) => (ms, Some(scene_target)),
             None => (scene_target, None),
         };
+        let scene_load = if targets.msaa.is_none() && targets.low.is_none() {
+            outer_load
+        } else {
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scene"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -646,7 +650,7 @@ impl SceneRenderer {
                 depth_slice: None,
                 resolve_target: resolve,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear),
+                    load: scene_load,
                     store: wgpu::StoreOp::Store,
                 },
             })],
@@ -664,20 +668,23 @@ impl SceneRenderer {
         });
         let svp = scene_vp;
         pass.set_viewport(svp.x, svp.y, svp.width, svp.height, 0.0, 1.0);
-        pass.set_scissor_rect(svp.x as u32, svp.y as u32, svp.width as u32, svp.height as u32);
+        pass.set_scissor_rect(
+            svp.x as u32,
+            svp.y as u32,
+            svp.width as u32,
+            svp.height as u32,
+        );
         pass.set_bind_group(0, &self.globals_bind, &[]);
 
-        if std::env::var("SKIP_SKY").is_err() {
         pass.set_pipeline(&self.sky);
         pass.draw(0..3, 0..1);
-        }
 
         let water_bind = match &self.water {
             Some(w) if scene.water.is_some() => &w.water_bind,
             _ => &self.flat_water_bind,
         };
         // The horizon below the view: no water to draw.
-        if let (Some(grid), true, false) = (&self.grid, globals.options[3] > -1.5, std::env::var("SKIP_WATER").is_ok()) {
+        if let (Some(grid), true) = (&self.grid, globals.options[3] > -1.5) {
             pass.set_pipeline(&self.water_pipe);
             pass.set_bind_group(1, water_bind, &[]);
             pass.set_index_buffer(grid.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -725,7 +732,7 @@ impl SceneRenderer {
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(clear),
+                        load: outer_load,
                         store: wgpu::StoreOp::Store,
                     },
                 })],
@@ -740,6 +747,37 @@ impl SceneRenderer {
             blit.set_bind_group(0, bind, &[]);
             blit.draw(0..3, 0..1);
         }
+    }
+
+    /// Copies `source` (a texture of the configured format, bindable) over the whole of `target`
+    /// by drawing: a write-only pass, which is what a window's swapchain image likes best.
+    pub fn blit_to(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        source: &wgpu::TextureView,
+        target: &wgpu::TextureView,
+    ) {
+        let bind = water_bind_group(device, &self.blit_layout, source, &self.sampler);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("blit"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.blit);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..3, 0..1);
     }
 
     /// Draws the scene at `scale` × the view's resolution and upscales it (1 = full resolution;
@@ -1066,7 +1104,10 @@ impl SceneRenderer {
         vp: Viewport,
     ) {
         let pts = scene.trail;
-        let width = (vp.height / 320.0).clamp(1.5, 4.0);
+        // 1.5–3 pixels of the view, never below one pixel of a reduced-resolution scene.
+        let width =
+            ((vp.height / self.render_scale.max(0.25)) / 400.0).clamp(1.5, 3.0) * self.render_scale;
+        let width = width.max(1.0);
         let last = pts.last().map_or([0; 3], |p| {
             [
                 p.x.to_bits(),
@@ -1160,8 +1201,12 @@ fn clamp_viewport(vp: Viewport, size: (u32, u32)) -> Viewport {
 }
 
 /// Decal instances: (flat ones on the water — markers, shadow, foam rings; solid ones — crowns).
-fn decals_for(scene: &Scene) -> (Vec<DecalInstance>, Vec<DecalInstance>) {
+fn decals_for(scene: &Scene, view_height_px: f32) -> (Vec<DecalInstance>, Vec<DecalInstance>) {
     let mut flat = Vec::new();
+    // World size of one pixel at a distance: markers keep a legible size however far they are.
+    let eye = scene.camera.eye();
+    let px_per_m = view_height_px.max(1.0) / (2.0 * (0.5 * scene.camera.fov_y).tan());
+    let pixel_at = |x: f32, y: f32| Vec3::new(x, y, 0.0).distance(eye) / px_per_m;
     let mut solid = Vec::new();
     let r = scene
         .stone
@@ -1194,9 +1239,13 @@ fn decals_for(scene: &Scene) -> (Vec<DecalInstance>, Vec<DecalInstance>) {
             } else {
                 [1.0, 0.3, 0.2, 0.9]
             };
+            let (x, y) = (m.x as f32, m.y as f32);
+            let px = pixel_at(x, y);
+            let inner = (r * 1.5).max(4.0 * px);
+            let width = (0.012 + 0.15 * r).max(1.6 * px);
             flat.push(DecalInstance {
-                center: [m.x as f32, m.y as f32, lift, r * 1.5],
-                shape: [r * 1.5 + 0.012 + 0.15 * r, lift, lift, 0.0],
+                center: [x, y, lift, inner],
+                shape: [inner + width, lift, lift, 0.0],
                 fade: [1.0, 1.0, 0.0, 0.0],
                 color,
             });

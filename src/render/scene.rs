@@ -286,3 +286,55 @@ impl WaterHeights {
         &self.data
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::integrate::BodyState;
+
+    fn sample(t: f64, x: f64, in_contact: bool) -> StepSample {
+        StepSample {
+            time: t,
+            state: BodyState {
+                position: DVec3::new(x, 0.0, 0.1),
+                velocity: DVec3::X,
+                orientation: DQuat::IDENTITY,
+                angular_momentum: DVec3::ZERO,
+            },
+            angular_velocity: DVec3::ZERO,
+            in_contact,
+            wetted_area: 0.0,
+            force: DVec3::ZERO,
+        }
+    }
+
+    #[test]
+    fn trail_thins_but_keeps_the_newest_point_and_contact_changes() {
+        let mut trail = Trail::new();
+        trail.start(DVec3::new(0.0, 0.0, 0.1));
+        for i in 1..=1000 {
+            // 1 mm apart: about one point kept per centimetre.
+            trail.push(&sample(i as f64 * 1e-4, i as f64 * 1e-3, false));
+        }
+        let n = trail.points().len();
+        assert!((95..=110).contains(&n), "{n} points");
+        assert!((trail.points()[n - 1].x - 1.0).abs() < 1e-6);
+        let before = trail.points().len();
+        trail.push(&sample(0.2, 1.0001, true));
+        trail.push(&sample(0.2001, 1.0002, true));
+        assert!(trail.points().len() >= before + 1);
+    }
+
+    #[test]
+    fn splashes_fade_out() {
+        let mut sim = Simulation::new(&crate::sim::params::Preset::default()).unwrap();
+        while sim.contacts().is_empty() && sim.time() < 2.0 {
+            sim.tick();
+        }
+        let c = sim.contacts()[0];
+        assert!(splashes_of(&[c], c.t_start - 0.1).is_empty());
+        assert_eq!(splashes_of(&[c], c.t_start + 0.1).len(), 1);
+        assert!(splashes_of(&[c], c.t_start + SPLASH_DURATION + 0.01).is_empty());
+        assert_eq!(markers_of(&[c]).len(), 1);
+    }
+}

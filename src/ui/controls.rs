@@ -74,7 +74,7 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
     ui.monospace(format!("t = {:7.3} s  {state}", c.time));
     if c.dropping_now {
         ui.label(
-            RichText::new(format!("physics behind real time: {:.2} s skipped", c.dropped_total))
+            RichText::new(format!("running behind: {:.2} s of simulated time skipped", c.dropped_total))
                 .color(egui::Color32::from_rgb(255, 190, 80)),
         )
         .on_hover_text(

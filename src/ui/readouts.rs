@@ -28,6 +28,16 @@ impl PlotSeries {
         *self = Self::default();
     }
 
+    /// The three series as drawn over [0, end] in `buckets` columns (see [`decimate`]).
+    pub fn decimated(&self, buckets: usize, end: f64) -> [Vec<PlotPoint>; 3] {
+        let x1 = end.max(0.1);
+        [
+            decimate(&self.height, 0.0, x1, buckets),
+            decimate(&self.speed, 0.0, x1, buckets),
+            decimate(&self.area, 0.0, x1, buckets),
+        ]
+    }
+
     pub fn push(&mut self, s: &StepSample) {
         if !s.in_contact && !self.height.is_empty() && s.time - self.last_t < Self::FLIGHT_SPACING {
             return;
@@ -127,35 +137,20 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent]) {
         });
 }
 
-/// Height, speed and wetted area over time, sharing the time axis.
-pub fn plots_ui(ui: &mut Ui, series: &PlotSeries, now: f64) {
+/// Height (m), speed (m/s) and wetted area (cm²) over time up to `end`, sharing the time axis
+/// (series as [`PlotSeries::decimated`] gives them).
+pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 3], end: f64) {
     let link = egui::Id::unique("stoneskip_plots_x");
-    let plots: [(&str, &str, &[PlotPoint], egui::Color32); 3] = [
-        (
-            "height",
-            "z (m)",
-            &series.height,
-            egui::Color32::from_rgb(120, 200, 255),
-        ),
-        (
-            "speed",
-            "|v| (m/s)",
-            &series.speed,
-            egui::Color32::from_rgb(255, 200, 90),
-        ),
+    let looks = [
+        ("height", "z (m)", egui::Color32::from_rgb(120, 200, 255)),
+        ("speed", "|v| (m/s)", egui::Color32::from_rgb(255, 200, 90)),
         (
             "wetted",
             "wet (cm²)",
-            &series.area,
             egui::Color32::from_rgb(140, 230, 140),
         ),
     ];
-    // At most two points (the lowest and highest) per pixel column: the same picture for a
-    // fraction of the triangles (every one costs on a software rasteriser).
-    let buckets = ui.available_width().max(50.0) as usize;
-    let x1 = now.max(0.1);
-    for (id, label, data, color) in plots {
-        let shown = decimate(data, 0.0, x1, buckets);
+    for ((id, label, color), data) in looks.into_iter().zip(series.iter()) {
         ui.label(RichText::new(label).small());
         Plot::new(id)
             .height(78.0)
@@ -164,11 +159,11 @@ pub fn plots_ui(ui: &mut Ui, series: &PlotSeries, now: f64) {
             .allow_zoom(false)
             .allow_drag(false)
             .include_x(0.0)
-            .include_x(now.max(0.1))
+            .include_x(end.max(0.1))
             .include_y(0.0)
             .show_axes([id == "wetted", true])
             .show(ui, |plot| {
-                plot.line(Line::new(label, PlotPoints::Owned(shown)).color(color));
+                plot.line(Line::new(label, PlotPoints::Borrowed(data)).color(color));
             });
     }
 }
@@ -300,7 +295,12 @@ mod tests {
     #[test]
     fn decimation_keeps_extremes_in_order() {
         let data: Vec<PlotPoint> = (0..10_000)
-            .map(|i| PlotPoint::new(i as f64 * 1e-3, if i == 5_000 { 9.0 } else { (i % 7) as f64 }))
+            .map(|i| {
+                PlotPoint::new(
+                    i as f64 * 1e-3,
+                    if i == 5_000 { 9.0 } else { (i % 7) as f64 },
+                )
+            })
             .collect();
         let d = decimate(&data, 0.0, 10.0, 100);
         assert!(d.len() <= 202);
