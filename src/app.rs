@@ -20,7 +20,9 @@ use winit::window::{Window, WindowId};
 
 use crate::preset;
 use crate::render::camera::throw_heading;
-use crate::render::gpu::{describe_adapter, request_adapter, request_device, Gpu};
+use crate::render::gpu::{
+    describe_adapter, no_adapter_error, request_adapter, request_device, Gpu,
+};
 use crate::render::offscreen::read_rgba8;
 use crate::render::{
     Camera, RendererConfig, Scene, SceneRenderer, SceneStyle, Trail, Viewport, WaterHeights,
@@ -139,9 +141,9 @@ impl Gfx {
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
                 Box::new(event_loop.owned_display_handle()),
             ));
-        let surface = instance
-            .create_surface(window.clone())
-            .map_err(|e| anyhow!("cannot draw into the window: {e}"))?;
+        let surface = instance.create_surface(window.clone()).map_err(|e| {
+            no_adapter_error(&format!("no backend could draw into the window ({e})"))
+        })?;
         let adapter = request_adapter(&instance, Some(&surface))?;
         let (device, queue) = request_device(&adapter)?;
         let caps = surface.get_capabilities(&adapter);
@@ -817,9 +819,9 @@ impl Model {
     }
 
     /// Takes a new snapshot of what the panels show (every frame when still, at
-    /// [`READOUT_HZ`] while running).
+    /// [`READOUT_HZ`] while animating).
     fn refresh_shown(&mut self) {
-        let due = self.phase != Phase::Running
+        let due = !self.animating()
             || self.shown.at.map_or(true, |t| {
                 t.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
                     && self.frames >= self.shown.frame + READOUT_MIN_FRAMES

@@ -135,9 +135,7 @@ fn csv_has_header_and_dense_rows() {
     let f = write(
         dir.path(),
         "p.ron",
-        &format!(
-            "(physics: (dt: 0.02, integrator: Paper, max_time: 2.0), water: (enabled: false))"
-        ),
+        "(physics: (dt: 0.02, integrator: Paper, max_time: 2.0), water: (enabled: false))",
     );
     let csv = dir.path().join("t.csv");
     let out = stoneskip(&["simulate", "--preset", &f, "--csv", &csv.to_string_lossy()]);

@@ -48,7 +48,11 @@ impl Camera {
     /// the throw's heading, the horizon in the upper third.
     pub fn default_for(preset: &Preset) -> Self {
         let l = &preset.launch;
-        let launch = Vec3::new(l.position[0] as f32, l.position[1] as f32, l.position[2] as f32);
+        let launch = Vec3::new(
+            l.position[0] as f32,
+            l.position[1] as f32,
+            l.position[2] as f32,
+        );
         Self::orbiting(launch, throw_heading(preset))
     }
 
@@ -228,7 +232,10 @@ mod tests {
         assert!(p.y < 60.0 && p.y > 0.0, "horizon at y = {}", p.y);
         // The launch point is in the middle of the view.
         let launch = cam.project(Vec3::new(0.0, 0.0, 0.3), 320, 180).unwrap();
-        assert!((launch - Vec2::new(160.0, 90.0)).length() < 1.0, "{launch:?}");
+        assert!(
+            (launch - Vec2::new(160.0, 90.0)).length() < 1.0,
+            "{launch:?}"
+        );
     }
 
     #[test]

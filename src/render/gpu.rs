@@ -71,9 +71,7 @@ fn backend_names(b: wgpu::Backends) -> String {
 pub fn no_adapter_error(detail: &str) -> RenderError {
     let tried = backend_names(backends_tried());
     RenderError::NoAdapter {
-        tried: format!(
-            "{tried} (high-performance, then the fallback adapter); wgpu said: {detail}"
-        ),
+        tried: format!("{tried}; {detail}"),
     }
 }
 
@@ -97,7 +95,9 @@ pub fn request_adapter(
             Err(e) => last = e.to_string(),
         }
     }
-    Err(no_adapter_error(&last))
+    Err(no_adapter_error(&format!(
+        "asked for a high-performance adapter, then the fallback one; wgpu said: {last}"
+    )))
 }
 
 /// Requests a device with the adapter's texture size limits (large water grids) and otherwise

@@ -48,6 +48,32 @@ pub mod colors {
     pub const GREY: RGBColor = RGBColor(120, 120, 120);
     /// A cycle for numbered series.
     pub const CYCLE: [RGBColor; 8] = [BLUE, RED, GREEN, ORANGE, PURPLE, SKY, GREY, BLACK];
+
+    /// Colour `k` of `n` ordered values, dark blue to yellow (viridis, sampled).
+    pub fn sequential(k: usize, n: usize) -> RGBColor {
+        const V: [(f64, f64, f64); 6] = [
+            (68.0, 1.0, 84.0),
+            (65.0, 68.0, 135.0),
+            (42.0, 120.0, 142.0),
+            (34.0, 168.0, 132.0),
+            (122.0, 209.0, 81.0),
+            (220.0, 210.0, 30.0),
+        ];
+        let t = if n > 1 {
+            k as f64 / (n - 1) as f64
+        } else {
+            0.0
+        };
+        let x = t.clamp(0.0, 1.0) * (V.len() - 1) as f64;
+        let i = (x.floor() as usize).min(V.len() - 2);
+        let f = x - i as f64;
+        let c = |a: f64, b: f64| (a + (b - a) * f).round().clamp(0.0, 255.0) as u8;
+        RGBColor(
+            c(V[i].0, V[i + 1].0),
+            c(V[i].1, V[i + 1].1),
+            c(V[i].2, V[i + 1].2),
+        )
+    }
 }
 
 /// How a series is drawn.
