@@ -605,8 +605,13 @@ fn write(
             rec.segments
                 .map_or("none in the sweep".into(), |n| n.to_string()),
             d.stone.segments.to_string(),
-            rec.segments
-                .map_or("–".into(), |n| format!("{} triangles (lens)", n * n)),
+            rec.segments.map_or("–".into(), |n| {
+                mesh.iter()
+                    .find(|m| m.segments == n)
+                    .map_or(String::new(), |m| {
+                        format!("{} triangles (lens)", m.triangles)
+                    })
+            }),
         ],
         vec![
             "water.cell (m)".into(),

@@ -589,7 +589,10 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
                         } else if !b.skipped {
                             "no skip (sank)".to_string()
                         } else if b.restitution > 1.0 {
-                            format!("super-elastic bounce, v_z ratio {}", sig(b.restitution, 4))
+                            format!(
+                                "super-elastic bounce (v_z out/in − 1 = {})",
+                                sig(b.restitution - 1.0, 2)
+                            )
                         } else {
                             format!("energy × {}", sig(b.energy_ratio, 3))
                         }
@@ -703,7 +706,7 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
         thresholds.push((diag, thr));
         crow.push(vec![
             if diag { "8 (isotropic)" } else { "4" }.to_string(),
-            format!("{} (√{})", sig(limit, 5), if diag { "3/2" } else { "1/2" }),
+            format!("{} ({})", sig(limit, 5), if diag { "√3/2" } else { "1/√2" }),
             format!("[{:.5}, {:.5}]", lo, hi),
             format!("{:+.2} %", 100.0 * (thr / limit - 1.0)),
             format!("{:.5} ({:+.3} %)", walled, 100.0 * (thr / walled - 1.0)),

@@ -161,7 +161,8 @@ mod tests {
     #[test]
     fn significant_digits() {
         assert_eq!(sig(0.012345, 3), "0.0123");
-        assert_eq!(sig(123456.0, 3), "1.23e5");
+        assert_eq!(sig(123456.0, 3), "123456");
+        assert_eq!(sig(1.234e7, 3), "1.23e7");
         assert_eq!(sig(2.5, 2), "2.5");
         assert_eq!(sig(1e-7, 2), "1.0e-7");
         assert_eq!(sig(f64::INFINITY, 2), "n/a");
