@@ -596,20 +596,26 @@ impl Simulation {
         if !wet(h) {
             return h;
         }
-        let (mut lo, mut hi) = (0.0, h);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if wet(mid) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        hi
+        first_wet(h, 60, wet)
     }
+}
+
+/// Bisection on [0, h] for the first offset that is wet, given dry at 0 and wet at `h`: at most
+/// `iterations` halvings, stopping early when the interval reaches floating-point resolution.
+fn first_wet(h: f64, iterations: u32, wet: impl Fn(f64) -> bool) -> f64 {
+    let (mut lo, mut hi) = (0.0, h);
+    for _ in 0..iterations {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if wet(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
 }
 
 /// One Adaptive step: exact flight to `h_max` or to the first touch; error-controlled
@@ -630,18 +636,9 @@ fn adaptive_step(
             return (end, h_max, ForceSum::default());
         }
         // Locate the first touch by bisection on the exact flight.
-        let (mut lo, mut hi) = (0.0, h_max);
-        for _ in 0..80 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if clear(&flight(dy.stone, dy.rotation, dy.gravity, &s, mid)) <= 0.0 {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
+        let hi = first_wet(h_max, 80, |t| {
+            clear(&flight(dy.stone, dy.rotation, dy.gravity, &s, t)) <= 0.0
+        });
         let at = flight(dy.stone, dy.rotation, dy.gravity, &s, hi);
         return (at, hi, ForceSum::default());
     }

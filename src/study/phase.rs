@@ -131,42 +131,35 @@ pub fn first_skips(law: ForceLaw, tilt: f64, speed: f64, beta: f64) -> Result<bo
 
 /// The tilt × speed map at β = 20°.
 pub fn speed_map(law: ForceLaw, g: &Grid) -> Result<Vec<MapPoint>, StudyError> {
-    let jobs: Vec<(f64, f64)> = g
+    let throws: Vec<(f64, f64, f64)> = g
         .tilts
         .iter()
-        .flat_map(|&t| g.speeds.iter().map(move |&u| (t, u)))
+        .flat_map(|&t| g.speeds.iter().map(move |&u| (t, u, BETA_DEG)))
         .collect();
-    jobs.par_iter()
-        .map(|&(tilt, speed)| {
-            check_cancel()?;
-            let (skips, capped) = skips(law, tilt, speed, BETA_DEG)?;
-            Ok(MapPoint {
-                law,
-                tilt,
-                speed,
-                beta: BETA_DEG,
-                skips,
-                capped,
-            })
-        })
-        .collect()
+    map_throws(law, &throws)
 }
 
 /// The tilt × impact-angle map at U = 3.5 m/s.
 pub fn beta_map(law: ForceLaw, g: &Grid) -> Result<Vec<MapPoint>, StudyError> {
-    let jobs: Vec<(f64, f64)> = g
+    let throws: Vec<(f64, f64, f64)> = g
         .tilts
         .iter()
-        .flat_map(|&t| g.betas.iter().map(move |&b| (t, b)))
+        .flat_map(|&t| g.betas.iter().map(move |&b| (t, SPEED_BETA_MAP, b)))
         .collect();
-    jobs.par_iter()
-        .map(|&(tilt, beta)| {
+    map_throws(law, &throws)
+}
+
+/// Skips of each (tilt, speed, β) throw, in parallel; the order of `throws` is kept.
+fn map_throws(law: ForceLaw, throws: &[(f64, f64, f64)]) -> Result<Vec<MapPoint>, StudyError> {
+    throws
+        .par_iter()
+        .map(|&(tilt, speed, beta)| {
             check_cancel()?;
-            let (skips, capped) = skips(law, tilt, SPEED_BETA_MAP, beta)?;
+            let (skips, capped) = skips(law, tilt, speed, beta)?;
             Ok(MapPoint {
                 law,
                 tilt,
-                speed: SPEED_BETA_MAP,
+                speed,
                 beta,
                 skips,
                 capped,
