@@ -282,6 +282,17 @@ pub enum Limiter {
     PaperClamp,
 }
 
+/// Storage precision of the water grid's depths and flows. The kernel is memory-bound, so f32 halves
+/// its traffic; sums that must conserve volume are formed in f64 either way (water.rs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum Precision {
+    /// 4-byte floats: what a rendered lake needs (volume conserved to ~1e-7 relative).
+    #[default]
+    F32,
+    /// 8-byte floats: volume conserved to rounding (~1e-15), for validation.
+    F64,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Swell {
@@ -326,6 +337,8 @@ pub struct WaterParams {
     pub damping: f64,
     pub diagonal_pipes: bool,
     pub limiter: Limiter,
+    /// Storage precision of depths and flows.
+    pub precision: Precision,
     pub swell: Option<Swell>,
 }
 
@@ -341,6 +354,7 @@ impl Default for WaterParams {
             damping: 0.05,
             diagonal_pipes: true,
             limiter: Limiter::MassConserving,
+            precision: Precision::F32,
             swell: None,
         }
     }

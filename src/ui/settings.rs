@@ -5,7 +5,7 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    ForceLaw, Integrator, Launch, Limiter, Physics, Rotation, Shape, StoneParams, Swell,
+    ForceLaw, Integrator, Launch, Limiter, Physics, Precision, Rotation, Shape, StoneParams, Swell,
     WaterParams, MAX_WATER_COLUMNS,
 };
 
@@ -467,6 +467,18 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
             });
         ui.end_row();
         c |= before != water.limiter;
+        ui.label("Precision").on_hover_text(
+            "Storage of depths and flows: F32 halves the memory traffic; F64 conserves volume to rounding",
+        );
+        let before = water.precision;
+        egui::ComboBox::from_id_salt("precision")
+            .selected_text(format!("{:?}", water.precision))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut water.precision, Precision::F32, "F32");
+                ui.selectable_value(&mut water.precision, Precision::F64, "F64");
+            });
+        ui.end_row();
+        c |= before != water.precision;
         c
     });
     let mut swell = water.swell.is_some();
