@@ -155,6 +155,11 @@ fn quick_phase_writes_its_outputs() {
 }
 
 #[test]
+fn quick_spin_writes_its_outputs() {
+    quick("spin");
+}
+
+#[test]
 fn quick_defaults_writes_its_outputs() {
     quick("defaults");
 }
@@ -165,7 +170,7 @@ fn unknown_study_names_the_valid_ones() {
     let e = run_study("nonsense", tmp.path(), true)
         .unwrap_err()
         .to_string();
-    for n in ["accuracy", "stability", "phase", "defaults", "all"] {
+    for n in ["accuracy", "stability", "phase", "defaults", "spin", "all"] {
         assert!(e.contains(n), "{e}");
     }
 }

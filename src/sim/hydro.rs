@@ -13,7 +13,7 @@
 use glam::{DQuat, DVec3};
 
 use super::contact::{clip_triangle, WettedPatch};
-use super::params::{ForceLaw, Physics};
+use super::params::{ForceLaw, Physics, PressureCentre};
 use super::stone::Stone;
 
 /// The constants of one force evaluation.
@@ -24,6 +24,9 @@ pub struct HydroParams {
     pub friction: f64,
     pub density: f64,
     pub ventilated: bool,
+    /// Fraction of the wetted length (from its trailing edge, along the flow) at which the pressure's
+    /// resultant acts; `None`: at each face's wetted centroid.
+    pub pressure_centre: Option<f64>,
 }
 
 impl HydroParams {
@@ -35,6 +38,10 @@ impl HydroParams {
             friction,
             density: p.water_density,
             ventilated: p.ventilated,
+            pressure_centre: match p.pressure_centre {
+                PressureCentre::Faces => None,
+                PressureCentre::Planing(f) => Some(f),
+            },
         }
     }
 }
@@ -235,6 +242,9 @@ pub fn evaluate(
     // Without rotation every face moves with the centre of mass, so a ventilated face receding
     // from the water (V·N ≤ 0) is known to carry nothing before it is clipped.
     let cull_receding = hp.ventilated && pose.angular_velocity == DVec3::ZERO;
+    let mut planing = hp
+        .pressure_centre
+        .and_then(|f| Planing::new(f, pose.velocity));
     for (t, tri) in stone.mesh.triangles.iter().enumerate() {
         let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
         let d = [scratch.height[a], scratch.height[b], scratch.height[c]];
@@ -270,13 +280,98 @@ pub fn evaluate(
         sum.wetted_area += patch.area;
         sum.force += f;
         sum.torque += r.cross(f);
+        if let Some(pl) = planing.as_mut() {
+            pl.add_face(p, d, pose.position, r, normal, f);
+        }
         if record {
             scratch
                 .loads
                 .push((patch.centroid.x, patch.centroid.y, f.z));
         }
     }
+    if let Some(pl) = planing {
+        sum.torque += pl.torque_shift();
+    }
     sum
+}
+
+/// The planing centre of pressure (Savitsky 1964; physics.md §7.3): the faces' pressure forces keep
+/// their sum and their sideways moments, and their resultant's position along the horizontal flow
+/// direction d moves from the pressure-weighted mean of the face centroids to the given fraction of
+/// the wetted length ahead of the trailing edge. The wetted length spans the wetted points (wet
+/// vertices and waterline crossings of the loaded faces) along d.
+#[derive(Debug, Clone, Copy)]
+struct Planing {
+    fraction: f64,
+    /// Unit horizontal flow direction.
+    dir: DVec3,
+    /// Σ pressure force, Σ |pressure|, Σ |pressure|·s (s = r·d of the face's centroid).
+    pressure: DVec3,
+    weight: f64,
+    moment: f64,
+    s_min: f64,
+    s_max: f64,
+}
+
+impl Planing {
+    /// `None` when the stone has no horizontal speed (no flow direction to measure along).
+    fn new(fraction: f64, velocity: DVec3) -> Option<Self> {
+        let horizontal = DVec3::new(velocity.x, velocity.y, 0.0);
+        let len = horizontal.length();
+        (len > 1e-9).then(|| Self {
+            fraction,
+            dir: horizontal / len,
+            pressure: DVec3::ZERO,
+            weight: 0.0,
+            moment: 0.0,
+            s_min: f64::INFINITY,
+            s_max: f64::NEG_INFINITY,
+        })
+    }
+
+    /// One loaded face: vertices `p` with signed heights `d` above the surface, centroid offset `r`
+    /// from the centre of mass at `com`, outward normal, and the face's total force `f`.
+    fn add_face(
+        &mut self,
+        p: [DVec3; 3],
+        d: [f64; 3],
+        com: DVec3,
+        r: DVec3,
+        normal: DVec3,
+        f: DVec3,
+    ) {
+        let pn = f.dot(normal);
+        let pressure = normal * pn;
+        let w = pn.abs();
+        self.pressure += pressure;
+        self.weight += w;
+        self.moment += w * r.dot(self.dir);
+        for i in 0..3 {
+            let j = (i + 1) % 3;
+            if d[i] <= 0.0 {
+                self.extend((p[i] - com).dot(self.dir));
+            }
+            if (d[i] <= 0.0) != (d[j] <= 0.0) {
+                let t = d[i] / (d[i] - d[j]);
+                self.extend((p[i] + (p[j] - p[i]) * t - com).dot(self.dir));
+            }
+        }
+    }
+
+    fn extend(&mut self, s: f64) {
+        self.s_min = self.s_min.min(s);
+        self.s_max = self.s_max.max(s);
+    }
+
+    /// Torque added by moving the pressure's resultant along d to the planing centre.
+    fn torque_shift(&self) -> DVec3 {
+        if !(self.weight > 0.0 && self.s_max >= self.s_min) {
+            return DVec3::ZERO;
+        }
+        let target = self.s_min + self.fraction * (self.s_max - self.s_min);
+        let shift = target - self.moment / self.weight;
+        (self.dir * shift).cross(self.pressure)
+    }
 }
 
 #[cfg(test)]
@@ -291,6 +386,62 @@ mod tests {
             friction,
             density: 1000.0,
             ventilated,
+            pressure_centre: None,
+        }
+    }
+
+    /// The planing option moves the pressure's resultant to the given fraction of the wetted length
+    /// along the flow: on a flat plate wetted over its whole bottom (uniform Bocquet pressure, so the
+    /// faces put it at the middle) fraction f puts it (f − ½)·L ahead of the middle, the torque about
+    /// the lateral axis changing by −(f − ½)·L·F_z; the force itself is unchanged.
+    #[test]
+    fn planing_centre_moves_the_resultant_along_the_flow() {
+        use crate::sim::params::{Shape, StoneParams};
+        let (length, thickness) = (0.2, 1e-4);
+        let stone = Stone::new(&StoneParams {
+            shape: Shape::Plate {
+                length,
+                width: 0.1,
+                thickness,
+            },
+            mass: 0.1,
+            segments: 8,
+        })
+        .unwrap();
+        let pose = Pose {
+            position: DVec3::new(0.0, 0.0, 0.0),
+            velocity: DVec3::new(3.0, 0.0, -0.3),
+            orientation: DQuat::IDENTITY,
+            angular_velocity: DVec3::ZERO,
+        };
+        let run = |centre: Option<f64>| {
+            let h = HydroParams {
+                pressure_centre: centre,
+                ..hp(ForceLaw::Bocquet, true)
+            };
+            evaluate(
+                &stone,
+                &h,
+                &pose,
+                &FlatSurface,
+                &mut Scratch::default(),
+                false,
+            )
+        };
+        let faces = run(None);
+        assert!(faces.force.z > 0.0);
+        // Only the front edge face (thickness/length of the load) is off the middle.
+        let tol = 2.0 * thickness / length * length * faces.force.z;
+        assert!(faces.torque.y.abs() < tol, "{:?}", faces.torque);
+        for f in [0.0, 0.5, 0.75, 1.0] {
+            let s = run(Some(f));
+            assert_eq!(s.force, faces.force);
+            let expect = -(f - 0.5) * length * faces.force.z;
+            assert!(
+                (s.torque.y - expect).abs() < tol,
+                "fraction {f}: torque {} expected {expect}",
+                s.torque.y
+            );
         }
     }
 

@@ -212,6 +212,22 @@ pub enum Rotation {
     Free,
 }
 
+/// Where the pressure of a contact acts along the flow (physics.md §7.3). Only the torque depends on it,
+/// so it matters under `rotation: Free` alone.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum PressureCentre {
+    /// Each wetted face's pressure at that face's wetted centroid (the paper's eqs. 25–26): uniform
+    /// pressure puts the load at the area centroid.
+    Faces,
+    /// Planing (Savitsky 1964): the pressure's resultant acts at this fraction (0–1) of the wetted length
+    /// ahead of its trailing edge, measured along the horizontal flow (0.75 in Savitsky's data); its
+    /// sideways position and the friction stay as the faces give them.
+    Planing(f64),
+}
+
+/// Savitsky's centre of pressure: 0.75 of the wetted length ahead of the trailing edge.
+pub const SAVITSKY_CENTRE: f64 = 0.75;
+
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Physics {
@@ -239,6 +255,8 @@ pub struct Physics {
     /// Adaptive's relative error per step.
     pub tolerance: f64,
     pub rotation: Rotation,
+    /// Where the pressure acts along the flow (torque only).
+    pub pressure_centre: PressureCentre,
     /// s: the tick (fixed step; Adaptive's upper bound).
     pub dt: f64,
     /// s
@@ -257,6 +275,7 @@ impl Default for Physics {
             integrator: Integrator::Adaptive,
             tolerance: 1e-6,
             rotation: Rotation::Locked,
+            pressure_centre: PressureCentre::Faces,
             dt: 0.005,
             max_time: 20.0,
         }
@@ -578,6 +597,15 @@ impl Physics {
             check_range("physics.friction_coefficient", cf, 0.0, 10.0, "")?;
         }
         check_range("physics.tolerance", self.tolerance, 1e-12, 1e-2, "")?;
+        if let PressureCentre::Planing(f) = self.pressure_centre {
+            check_range(
+                "physics.pressure_centre.Planing",
+                f,
+                0.0,
+                1.0,
+                "of the wetted length",
+            )?;
+        }
         check_range("physics.dt", self.dt, DT_RANGE.0, DT_RANGE.1, "s")?;
         check_positive("physics.max_time", self.max_time, 3600.0, "s")?;
         Ok(())

@@ -13,6 +13,7 @@ pub mod accuracy;
 pub mod defaults;
 pub mod phase;
 pub mod plot;
+pub mod spin;
 pub mod stability;
 pub mod table;
 pub mod throws;
@@ -32,7 +33,7 @@ pub const STUDIES: [&str; 4] = ["accuracy", "stability", "phase", "defaults"];
 /// Errors of the studies.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
-    #[error("unknown study `{0}`; valid names: accuracy, stability, phase, defaults, all")]
+    #[error("unknown study `{0}`; valid names: accuracy, stability, phase, defaults, spin, all")]
     Unknown(String),
     #[error(transparent)]
     Sim(#[from] SimError),
@@ -133,7 +134,7 @@ impl Ctx {
     }
 }
 
-/// Runs study `name` ("accuracy", "stability", "phase", "defaults" or "all") into `out`; `quick`
+/// Runs study `name` ("accuracy", "stability", "phase", "defaults", "spin" or "all") into `out`; `quick`
 /// takes coarse grids (CI). With "all", each study writes into its own subfolder of `out`.
 pub fn run_study(name: &str, out: &Path, quick: bool) -> anyhow::Result<()> {
     install_ctrlc();
@@ -171,6 +172,15 @@ fn run_one(name: &str, out: &Path, quick: bool) -> Result<f64, StudyError> {
         "stability" => stability::run(&Ctx::new("stability", out, quick)?)?,
         "phase" => phase::run(&Ctx::new("phase", out, quick)?)?,
         "defaults" => defaults::run(&Ctx::new("defaults", out, quick)?)?,
+        // The phase study's spin axis alone (`phase` runs it too).
+        "spin" => {
+            let ctx = Ctx::new("spin", out, quick)?;
+            let section = spin::run(&ctx)?;
+            ctx.write(
+                "README.md",
+                &format!("# Spin study (the phase study's spin axis)\n\n{section}"),
+            )?;
+        }
         other => return Err(StudyError::Unknown(other.to_owned())),
     }
     Ok(started.elapsed().as_secs_f64())
@@ -214,7 +224,7 @@ mod tests {
         let dir = std::env::temp_dir().join("stoneskip-unknown-study");
         let e = run_study("nope", &dir, true).unwrap_err().to_string();
         assert!(
-            e.contains("nope") && e.contains("accuracy, stability, phase, defaults, all"),
+            e.contains("nope") && e.contains("accuracy, stability, phase, defaults, spin, all"),
             "{e}"
         );
     }

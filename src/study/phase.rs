@@ -268,7 +268,7 @@ pub fn argmin(tilts: &[f64], v: &[Option<f64>]) -> Option<(f64, f64)> {
         .min_by(|a, b| a.1.total_cmp(&b.1))
 }
 
-fn class_of(skips: usize) -> usize {
+pub(crate) fn class_of(skips: usize) -> usize {
     match skips {
         0 => 0,
         1 => 1,
@@ -279,7 +279,7 @@ fn class_of(skips: usize) -> usize {
     }
 }
 
-fn classes() -> Vec<(String, plotters::style::RGBColor)> {
+pub(crate) fn classes() -> Vec<(String, plotters::style::RGBColor)> {
     use plotters::style::RGBColor;
     vec![
         ("0: no skip".into(), RGBColor(244, 204, 190)),
@@ -291,7 +291,7 @@ fn classes() -> Vec<(String, plotters::style::RGBColor)> {
     ]
 }
 
-fn half_steps(v: &[f64]) -> Vec<(f64, f64)> {
+pub(crate) fn half_steps(v: &[f64]) -> Vec<(f64, f64)> {
     let n = v.len();
     (0..n)
         .map(|i| {
@@ -591,7 +591,10 @@ fn write(ctx: &Ctx, g: &Grid, results: &[LawResult]) -> Result<(), StudyError> {
         &[Panel::Chart(ms), Panel::Chart(bm)],
     )?;
 
-    ctx.write("README.md", &report(ctx, g, results))
+    let mut text = report(ctx, g, results);
+    text.push('\n');
+    text.push_str(&super::spin::run(ctx)?);
+    ctx.write("README.md", &text)
 }
 
 fn report(ctx: &Ctx, g: &Grid, results: &[LawResult]) -> String {

@@ -5,8 +5,8 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    ForceLaw, Integrator, Launch, Limiter, Physics, Precision, Rotation, Shape, StoneParams, Swell,
-    WaterParams, MAX_WATER_COLUMNS,
+    ForceLaw, Integrator, Launch, Limiter, Physics, Precision, PressureCentre, Rotation, Shape,
+    StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
 };
 
 use super::ViewSettings;
@@ -338,6 +338,33 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         });
         ui.end_row();
         c |= before != physics.rotation;
+        if physics.rotation == Rotation::Free {
+            ui.label("Pressure centre").on_hover_text(
+                "Where the lift acts along the flow (torque only). Faces: each face's centroid (the paper). \
+                 Planing: a fraction of the wetted length ahead of its trailing edge (Savitsky: 0.75).",
+            );
+            let before = physics.pressure_centre;
+            let mut planing = matches!(physics.pressure_centre, PressureCentre::Planing(_));
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut planing, false, "Faces");
+                ui.radio_value(&mut planing, true, "Planing");
+            });
+            ui.end_row();
+            physics.pressure_centre = match (planing, physics.pressure_centre) {
+                (false, _) => PressureCentre::Faces,
+                (true, PressureCentre::Planing(f)) => PressureCentre::Planing(f),
+                (true, PressureCentre::Faces) => PressureCentre::Planing(SAVITSKY_CENTRE),
+            };
+            if let PressureCentre::Planing(f) = &mut physics.pressure_centre {
+                c |= row(
+                    ui,
+                    "Centre at",
+                    "Fraction of the wetted length ahead of its trailing edge",
+                    |ui| ui.add(slider(f, 0.0..=1.0)),
+                );
+            }
+            c |= before != physics.pressure_centre;
+        }
         c |= row(
             ui,
             "Time step",
