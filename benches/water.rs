@@ -1,23 +1,30 @@
 //! Water-grid throughput against the memory-bandwidth bound (water.md §6, design.md §5).
 //!
-//! Criterion measures one water step (column updates per second as its throughput) on a 1024² grid
-//! (4 and 8 pipes) and on the default 40 m × 12 m lake at 5 cm (800 × 240 = 192 000 columns), with one
-//! thread and with all of them, plus a STREAM-like triad a = b + s·c. A summary then prints, from its own
-//! timings (median of repeats), the achieved bytes/s of each grid (bytes per column per step ×
-//! columns/s) over the triad's bandwidth, and the CPU share the default lake needs in real time.
+//! Criterion measures one water step (column updates per second as its throughput) in f32 and f64
+//! storage, with 4 and 8 pipes, on 1024² and 2000² grids (2048² is past the 4 M columns a grid may
+//! have; 2000² is the largest square allowed) and on the default 40 m × 12 m lake at 5 cm
+//! (800 × 240 = 192 000 columns, 8 pipes), with one thread and with all of them, plus a STREAM-like
+//! triad a = b + s·c (f64, 24 B/element, 32 B counting the write-allocate of a). A summary then
+//! prints, from its own timings (median of repeats, the triad timed the same way in the same run), for
+//! each case: columns/s, bytes per column, the achieved GB/s and its share of the triad bandwidth,
+//! and the ratio of columns/s to water.md §6.2's bound for a fused f32 4-pipe pass, triad bandwidth /
+//! 28 B per column, flagged "within 2×" when it is ≥ 0.5.
 //!
 //! Run: `cargo bench --bench water -- --quick` (needs `[[bench]] name = "water" harness = false`).
+//! `WATER_CASES=sq2000_4pipe_f32` (a substring) keeps only the matching cases, in both parts.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use rayon::prelude::*;
-use stoneskip::sim::params::WaterParams;
+use stoneskip::sim::params::{Precision, WaterParams};
 use stoneskip::sim::water::{WaterConfig, WaterGrid};
 
 /// Triad arrays: 3 × 8 B × 2²⁴ = 384 MiB, far past the last-level cache.
 const TRIAD_N: usize = 1 << 24;
+/// water.md §6.2: bytes per column of a fused f32 4-pipe pass (reads d, b, Qx, Qy; writes d, Qx, Qy).
+const BOUND_BYTES: f64 = 28.0;
 
 fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
@@ -26,12 +33,13 @@ fn pool(threads: usize) -> rayon::ThreadPool {
         .expect("thread pool")
 }
 
-fn square(n: usize, diag: bool) -> WaterGrid {
+fn square(n: usize, diag: bool, precision: Precision) -> WaterGrid {
     let cfg = WaterConfig {
         cell: 0.05,
         depth: 0.3,
         damping: 0.05,
         diagonal_pipes: diag,
+        precision,
         ..WaterConfig::unit(n, n)
     };
     let mut w = WaterGrid::with_config(cfg).expect("valid grid");
@@ -39,8 +47,11 @@ fn square(n: usize, diag: bool) -> WaterGrid {
     w
 }
 
-fn default_lake() -> WaterGrid {
-    let p = WaterParams::default();
+fn default_lake(precision: Precision) -> WaterGrid {
+    let p = WaterParams {
+        precision,
+        ..WaterParams::default()
+    };
     let mut w = WaterGrid::new(&p, p.origin_for([0.0, 0.0]), 9.81, 1000.0).expect("valid preset");
     seed_waves(&mut w);
     w
@@ -59,8 +70,34 @@ fn seed_waves(w: &mut WaterGrid) {
     }
 }
 
-/// A named way to build a grid.
-type MakeGrid = fn() -> WaterGrid;
+/// One benchmarked grid: a name and how to build it.
+struct Case {
+    name: String,
+    make: Box<dyn Fn() -> WaterGrid>,
+}
+
+/// Every case: both precisions, the default lake and 4- and 8-pipe squares of 1024² and 2000².
+fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    for (p, tag) in [(Precision::F32, "f32"), (Precision::F64, "f64")] {
+        out.push(Case {
+            name: format!("lake_800x240_8pipe_{tag}"),
+            make: Box::new(move || default_lake(p)),
+        });
+        for n in [1024, 2000] {
+            for (diag, pipes) in [(false, 4), (true, 8)] {
+                out.push(Case {
+                    name: format!("sq{n}_{pipes}pipe_{tag}"),
+                    make: Box::new(move || square(n, diag, p)),
+                });
+            }
+        }
+    }
+    match std::env::var("WATER_CASES") {
+        Ok(f) => out.into_iter().filter(|c| c.name.contains(&f)).collect(),
+        Err(_) => out,
+    }
+}
 
 struct Triad {
     a: Vec<f64>,
@@ -106,12 +143,17 @@ fn median_time(reps: usize, mut f: impl FnMut()) -> Duration {
     t[reps / 2]
 }
 
-fn benches(c: &mut Criterion) {
+fn thread_counts() -> Vec<usize> {
     let threads = rayon::current_num_threads();
     let mut counts = vec![1];
     if threads > 1 {
         counts.push(threads);
     }
+    counts
+}
+
+fn benches(c: &mut Criterion) {
+    let counts = thread_counts();
 
     let mut g = c.benchmark_group("triad");
     g.throughput(Throughput::Bytes(24 * TRIAD_N as u64));
@@ -125,18 +167,13 @@ fn benches(c: &mut Criterion) {
     g.finish();
     drop(triad);
 
-    let grids: [(&str, MakeGrid); 3] = [
-        ("lake_800x240_8pipe", default_lake),
-        ("sq1024_8pipe", || square(1024, true)),
-        ("sq1024_4pipe", || square(1024, false)),
-    ];
     let mut g = c.benchmark_group("water_step");
-    for (name, make) in grids {
-        let mut w = make();
+    for case in cases() {
+        let mut w = (case.make)();
         g.throughput(Throughput::Elements((w.nx() * w.ny()) as u64));
         for &t in &counts {
             let p = pool(t);
-            g.bench_function(format!("{name}/{t}thr"), |b| {
+            g.bench_function(format!("{}/{t}thr", case.name), |b| {
                 b.iter(|| p.install(|| w.step()))
             });
         }
@@ -146,7 +183,8 @@ fn benches(c: &mut Criterion) {
     summary(&counts);
 }
 
-/// Own timings, so the ratios can be printed: columns/s, bytes/s, share of the triad bandwidth.
+/// Own timings, so the ratios can be printed: columns/s, bytes/s, share of the triad bandwidth, and
+/// columns/s over the 28 B/column bound.
 fn summary(counts: &[usize]) {
     let mut triad = Triad::new();
     println!("\n== water summary (median of repeats) ==");
@@ -156,24 +194,24 @@ fn summary(counts: &[usize]) {
         let d = median_time(7, || p.install(|| triad.run(3.0)));
         let gbs = 24.0 * TRIAD_N as f64 / d.as_secs_f64() / 1e9;
         println!(
-            "triad {t} thread(s): {gbs:.1} GB/s (24 B/element; {:.1} GB/s counting write-allocate)",
-            gbs * 32.0 / 24.0
+            "triad {t} thread(s): {gbs:.1} GB/s (24 B/element; {:.1} GB/s counting write-allocate): bound {:.0} M columns/s at {BOUND_BYTES} B/column",
+            gbs * 32.0 / 24.0,
+            gbs * 1e3 / BOUND_BYTES,
         );
         bw.push(gbs);
     }
     drop(triad);
-    let grids: [(&str, MakeGrid); 3] = [
-        ("default lake 800×240, 8 pipes", default_lake),
-        ("1024², 8 pipes", || square(1024, true)),
-        ("1024², 4 pipes", || square(1024, false)),
-    ];
-    for (name, make) in grids {
-        let mut w = make();
+    println!(
+        "{:<26} {:>3} {:>9} {:>10} {:>5} {:>7} {:>7} {:>7} {:>8}",
+        "case", "thr", "ms/step", "Mcol/s", "B/col", "GB/s", "%triad", "%tr+WA", "vs 28 B"
+    );
+    for case in cases() {
+        let mut w = (case.make)();
         let cols = (w.nx() * w.ny()) as f64;
         let bytes = w.bytes_per_column_step() as f64;
         for (&t, &gbs) in counts.iter().zip(&bw) {
             let p = pool(t);
-            let steps = (2e8 / cols).clamp(5.0, 200.0) as usize;
+            let steps = (1e8 / cols).clamp(5.0, 200.0) as usize;
             let d = median_time(5, || {
                 p.install(|| {
                     for _ in 0..steps {
@@ -184,17 +222,18 @@ fn summary(counts: &[usize]) {
             let per_step = d.as_secs_f64() / steps as f64;
             let cps = cols / per_step;
             let achieved = cps * bytes / 1e9;
-            // The triad moves 32 B per element (24 B counted by STREAM + write-allocate of a); the
-            // in-place water step moves exactly its bytes per column.
+            // The bound: the triad's bandwidth (STREAM's 24 B count) over 28 B per column.
+            let ratio = cps / (gbs * 1e9 / BOUND_BYTES);
             println!(
-                "{name}, {t} thread(s): {:.3} ms/step, {:.1} M columns/s × {bytes} B = {achieved:.1} GB/s = {:.0} % of the triad's {:.1} GB/s of traffic ({:.0} % of its STREAM figure)",
+                "{:<26} {t:>3} {:>9.3} {:>10.1} {bytes:>5} {achieved:>7.1} {:>6.0}% {:>6.0}% {ratio:>8.2} {}",
+                case.name,
                 per_step * 1e3,
                 cps / 1e6,
-                100.0 * achieved / (gbs * 32.0 / 24.0),
-                gbs * 32.0 / 24.0,
                 100.0 * achieved / gbs,
+                100.0 * achieved / (gbs * 32.0 / 24.0),
+                if ratio >= 0.5 { "within 2×" } else { "NOT within 2×" },
             );
-            if name.starts_with("default") {
+            if case.name.starts_with("lake") {
                 let rate = 1.0 / w.step_dt();
                 println!(
                     "    real time needs {rate:.1} steps/s (Δt_w = {:.4} s, r = {:.3}): {:.1} % of the wall clock on {t} thread(s)",
@@ -205,6 +244,10 @@ fn summary(counts: &[usize]) {
             }
         }
     }
+    println!(
+        "columns: %triad = achieved GB/s over the triad's 24 B/element figure, %tr+WA over its 32 B traffic; \
+         vs 28 B = columns/s over (triad GB/s / {BOUND_BYTES} B), the fused f32 4-pipe bound (water.md §6.2)"
+    );
 }
 
 criterion_group! {

@@ -3,7 +3,7 @@
 //! quoted beside each test, not from a previous run. Grids are the smallest that still measure to the
 //! stated tolerance, so the suite stays fast in the dev profile.
 
-use stoneskip::sim::params::{Limiter, Swell, WaterParams};
+use stoneskip::sim::params::{Limiter, Precision, Swell, WaterParams};
 use stoneskip::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
 
 const G: f64 = 9.81;
@@ -31,6 +31,14 @@ fn cfg(nx: usize, ny: usize, diag: bool, r: f64) -> WaterConfig {
         ..WaterConfig::unit(nx, ny)
     }
     .with_courant(r)
+}
+
+/// Unit roundoff of the storage precision: half an ulp of 1.
+fn unit_roundoff(p: Precision) -> f64 {
+    match p {
+        Precision::F32 => f64::from(f32::EPSILON) / 2.0,
+        Precision::F64 => f64::EPSILON / 2.0,
+    }
 }
 
 fn depths(w: &WaterGrid) -> Vec<f64> {
@@ -90,8 +98,22 @@ fn peak(f: impl Fn(usize) -> f64, lo: usize, hi: usize) -> f64 {
 /// flows depend only on surface differences (0 between wet cells) and K = 0 on dry cells.
 #[test]
 fn t1_lake_at_rest_with_dry_cells_is_bitwise_still() {
+    lake_at_rest(Precision::F64);
+}
+
+/// T1 in f32: the bed lattice (2⁻¹⁰) is as exact in f32 (11 significant bits), so the lake stays as
+/// still, bit for bit.
+#[test]
+fn t1_f32_lake_at_rest_with_dry_cells_is_bitwise_still() {
+    lake_at_rest(Precision::F32);
+}
+
+fn lake_at_rest(precision: Precision) {
     for (diag, steps) in [(false, 3000), (true, 1500)] {
-        let mut w = grid(cfg(64, 64, diag, 0.5));
+        let mut w = grid(WaterConfig {
+            precision,
+            ..cfg(64, 64, diag, 0.5)
+        });
         let mut rng = Rng(1);
         let mut dry = 0;
         for iy in 0..64 {
@@ -109,7 +131,11 @@ fn t1_lake_at_rest_with_dry_cells_is_bitwise_still() {
         for _ in 0..steps {
             w.step();
         }
-        assert_eq!(depths(&w), before, "diag {diag}: the lake moved");
+        assert_eq!(
+            depths(&w),
+            before,
+            "diag {diag} {precision:?}: the lake moved"
+        );
         for iy in 0..64 {
             for ix in 0..64 {
                 for p in 0..4 {
@@ -129,52 +155,74 @@ fn t1_lake_at_rest_with_dry_cells_is_bitwise_still() {
 #[test]
 fn t2_volume_is_conserved_with_splashes_and_dry_cells() {
     for (diag, steps) in [(false, 10_000), (true, 4_000)] {
-        let n = 64;
-        let mut w = grid(cfg(n, n, diag, 0.5));
-        for iy in 0..n {
-            for ix in 0..n {
-                let (x, y) = (ix as f64, iy as f64);
-                // Beach rising to +x, an island, measured from the bottom (rest surface at 1).
-                let beach = 1.6 * x / (n - 1) as f64;
-                let island = 1.4 * (-((x - 20.0).powi(2) + (y - 32.0).powi(2)) / 50.0).exp();
-                let b = beach.max(island);
-                let hump = 0.9 * (-((x - 30.0).powi(2) + (y - 20.0).powi(2)) / 72.0).exp();
-                w.set_bed(ix, iy, b - 1.0);
-                w.set_depth(ix, iy, (1.0 + hump - b).max(0.0));
-            }
-        }
-        let mut ledger = w.volume();
-        let mut worst = 0.0f64;
-        let mut min_depth = f64::INFINITY;
-        let mut rng = Rng(2);
-        for s in 0..steps {
-            if s % (steps / 10) == steps / 20 {
-                let (ix, iy) = (
-                    (rng.next() * 40.0) as usize,
-                    (rng.next() * n as f64) as usize,
-                );
-                w.add_volume(ix, iy, 0.3);
-                ledger += 0.3;
-            }
-            if s % 7 == 0 {
-                // Splashes: pressure impulses anywhere, wet or dry (volume-neutral by construction).
-                let (x, y) = (rng.next() * n as f64, rng.next() * n as f64);
-                w.deposit_impulse(x, y, 2e4 * rng.next());
-            }
-            w.step();
-            worst = worst.max((w.volume() - ledger).abs() / ledger);
-            if s % 50 == 0 {
-                min_depth = min_depth.min(w.min_depth());
-            }
-        }
-        println!("T2 diag={diag}: worst |V − ledger|/V = {worst:.2e}, min depth {min_depth:.2e}");
-        assert!(worst <= 1e-12, "volume drift {worst}");
-        // K leaves at most rounding below zero: 8 ulps of the deepest column (< 4 m here).
-        assert!(
-            min_depth >= -8.0 * f64::EPSILON * 4.0,
-            "negative depth {min_depth}"
-        );
+        splashes_and_dry_cells(Precision::F64, diag, steps, 1e-12);
     }
+}
+
+/// T2 in f32 storage, 10 000 steps. The fluxes still telescope (each flow is stored once and read
+/// by both columns it joins), so what drifts is the rounding of the stored depths: at most half an
+/// ulp per changed column and step, random in sign, rms ulp/√12 ≈ 3.4e-8 m for depths in [1, 2) m.
+/// Over 10 000 steps and ~2500 wet columns that is a random walk of √(2.5e7)·3.4e-8 ≈ 1.7e-4 m³ in
+/// a volume of ~2500 m³: ~7e-8 relative, its largest excursion a few times that. The 1e-6
+/// bounds it with a margin of ~5.
+#[test]
+fn t2_f32_volume_is_conserved_with_splashes_and_dry_cells() {
+    for diag in [false, true] {
+        splashes_and_dry_cells(Precision::F32, diag, 10_000, 1e-6);
+    }
+}
+
+/// The T2 scene (beach, island, hump, drops and splashes) for `steps` steps: asserts the volume
+/// follows the ledger to `tol` relative at every step and no depth is negative beyond rounding.
+fn splashes_and_dry_cells(precision: Precision, diag: bool, steps: usize, tol: f64) {
+    let n = 64;
+    let mut w = grid(WaterConfig {
+        precision,
+        ..cfg(n, n, diag, 0.5)
+    });
+    for iy in 0..n {
+        for ix in 0..n {
+            let (x, y) = (ix as f64, iy as f64);
+            // Beach rising to +x, an island, measured from the bottom (rest surface at 1).
+            let beach = 1.6 * x / (n - 1) as f64;
+            let island = 1.4 * (-((x - 20.0).powi(2) + (y - 32.0).powi(2)) / 50.0).exp();
+            let b = beach.max(island);
+            let hump = 0.9 * (-((x - 30.0).powi(2) + (y - 20.0).powi(2)) / 72.0).exp();
+            w.set_bed(ix, iy, b - 1.0);
+            w.set_depth(ix, iy, (1.0 + hump - b).max(0.0));
+        }
+    }
+    let mut ledger = w.volume();
+    let mut worst = 0.0f64;
+    let mut min_depth = f64::INFINITY;
+    let mut rng = Rng(2);
+    for s in 0..steps {
+        if s % (steps / 10) == steps / 20 {
+            let (ix, iy) = (
+                (rng.next() * 40.0) as usize,
+                (rng.next() * n as f64) as usize,
+            );
+            w.add_volume(ix, iy, 0.3);
+            ledger += 0.3;
+        }
+        if s % 7 == 0 {
+            // Splashes: pressure impulses anywhere, wet or dry (volume-neutral by construction).
+            let (x, y) = (rng.next() * n as f64, rng.next() * n as f64);
+            w.deposit_impulse(x, y, 2e4 * rng.next());
+        }
+        w.step();
+        worst = worst.max((w.volume() - ledger).abs() / ledger);
+        if s % 50 == 0 {
+            min_depth = min_depth.min(w.min_depth());
+        }
+    }
+    println!(
+            "T2 {precision:?} diag={diag}: worst |V − ledger|/V = {worst:.2e}, min depth {min_depth:.2e}"
+        );
+    assert!(worst <= tol, "volume drift {worst}");
+    // K leaves at most rounding below zero: 8 ulps of the deepest column (< 4 m here).
+    let ulp = 2.0 * unit_roundoff(precision);
+    assert!(min_depth >= -8.0 * ulp * 4.0, "negative depth {min_depth}");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -319,10 +367,19 @@ fn ring_radii(w: &WaterGrid, c: usize) -> (f64, f64) {
 }
 
 /// Runs a Gaussian bump and returns the ring speeds (axis, diagonal) between t1 and t2.
-fn ring_speed(diag: bool, n: usize, t1: f64, t2: f64) -> (f64, f64) {
-    let mut w = grid(cfg(n, n, diag, 0.5));
+fn ring_speed(diag: bool, n: usize, t1: f64, t2: f64, precision: Precision) -> (f64, f64) {
+    let mut w = grid(WaterConfig {
+        precision,
+        ..cfg(n, n, diag, 0.5)
+    });
     let c = n / 2;
-    add_bump(&mut w, c as i64, c as i64, 1e-3, 4.0);
+    // The model is linear (K stays 1), so the amplitude does not change the speed; f32 gets a 1 cm
+    // bump so the ring stands as far above its rounding as the 1 mm one does in f64.
+    let amp = match precision {
+        Precision::F32 => 1e-2,
+        Precision::F64 => 1e-3,
+    };
+    add_bump(&mut w, c as i64, c as i64, amp, 4.0);
     let n1 = (t1 / w.step_dt()).round() as u64;
     let n2 = (t2 / w.step_dt()).round() as u64;
     while w.steps() < n1 {
@@ -343,11 +400,23 @@ fn ring_speed(diag: bool, n: usize, t1: f64, t2: f64) -> (f64, f64) {
 /// agree to 1e-3 (T11). t = 15 s and 42 s keep the ring 8 cells inside the walls of a 301² grid.
 #[test]
 fn t5_t11_ring_front_travels_at_the_wave_speed() {
+    ring_front(Precision::F64);
+}
+
+/// T5 + T11 in f32 storage: the same ring, the same tolerances. Rounding adds up to half an ulp of
+/// the depth (6e-8 m) per column and step, noise on the ring that moves the fitted peaks; the 1 cm
+/// bump keeps the ring ~10⁵ ulps high, so the peaks sit where the f64 ones do.
+#[test]
+fn t5_t11_f32_ring_front_travels_at_the_wave_speed() {
+    ring_front(Precision::F32);
+}
+
+fn ring_front(precision: Precision) {
     let c = G.sqrt();
     for diag in [false, true] {
-        let (ax, dg) = ring_speed(diag, 301, 15.0, 42.0);
+        let (ax, dg) = ring_speed(diag, 301, 15.0, 42.0, precision);
         println!(
-            "T5 diag={diag}: axis {:.4} c, diagonal {:.4} c, ratio {:.5}",
+            "T5 {precision:?} diag={diag}: axis {:.4} c, diagonal {:.4} c, ratio {:.5}",
             ax / c,
             dg / c,
             ax / dg
@@ -484,9 +553,23 @@ fn assert_dihedral_symmetric(w: &WaterGrid) -> f64 {
 /// a drop violent enough to dry cells (K active).
 #[test]
 fn t7_centred_drop_stays_symmetric() {
+    centred_drop(Precision::F64, 1e-12);
+}
+
+/// T7 in f32: the same fixed, symmetric order of every sum makes the images round alike in any
+/// precision, so the result is exactly symmetric in f32 too.
+#[test]
+fn t7_f32_centred_drop_stays_symmetric() {
+    centred_drop(Precision::F32, 0.0);
+}
+
+fn centred_drop(precision: Precision, tol: f64) {
     for (diag, amp) in [(false, 0.5), (true, 0.5), (false, 3.0), (true, 3.0)] {
         let n = 65;
-        let mut w = grid(cfg(n, n, diag, 0.5));
+        let mut w = grid(WaterConfig {
+            precision,
+            ..cfg(n, n, diag, 0.5)
+        });
         add_bump(&mut w, 32, 32, amp, 3.0);
         let mut min_d = f64::INFINITY;
         for _ in 0..1000 {
@@ -494,8 +577,10 @@ fn t7_centred_drop_stays_symmetric() {
             min_d = min_d.min(w.min_depth());
         }
         let asym = assert_dihedral_symmetric(&w);
-        println!("T7 diag={diag} amp={amp}: asymmetry {asym:.1e}, min depth {min_d:.3}");
-        assert!(asym <= 1e-12, "asymmetry {asym}");
+        println!(
+            "T7 {precision:?} diag={diag} amp={amp}: asymmetry {asym:.1e}, min depth {min_d:.3}"
+        );
+        assert!(asym <= tol, "asymmetry {asym}");
     }
 }
 
@@ -595,7 +680,7 @@ fn t9_pressure_patch_depresses_the_water_by_p_over_rho_g() {
 // T12: determinism across threads
 // ---------------------------------------------------------------------------------------------
 
-fn busy_scene(threads: usize) -> Vec<u64> {
+fn busy_scene(threads: usize, precision: Precision) -> Vec<u64> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -604,6 +689,7 @@ fn busy_scene(threads: usize) -> Vec<u64> {
         // 160 × 128 = 20 480 columns: above the serial threshold, so 2 threads run 4 chunks.
         let mut w = grid(WaterConfig {
             damping: 0.1,
+            precision,
             ..cfg(160, 128, true, 0.6)
         });
         for ix in 0..160 {
@@ -630,7 +716,65 @@ fn busy_scene(threads: usize) -> Vec<u64> {
 /// T12: 1 and 2 threads give bit-identical fields (Jacobi update; each chunk recomputes its halo).
 #[test]
 fn t12_one_and_two_threads_are_bit_identical() {
-    assert_eq!(busy_scene(1), busy_scene(2));
+    assert_eq!(busy_scene(1, Precision::F64), busy_scene(2, Precision::F64));
+}
+
+/// T12 in f32: the chunks' buffers hold the storage type, so a chunk's copy of its neighbours' values
+/// is the value they store: bit-identical too.
+#[test]
+fn t12_f32_one_and_two_threads_are_bit_identical() {
+    let one = busy_scene(1, Precision::F32);
+    assert_eq!(one, busy_scene(2, Precision::F32));
+    // The state is really f32: every depth is an f32 value.
+    assert!(one
+        .iter()
+        .step_by(5)
+        .all(|&b| f64::from(f64::from_bits(b) as f32) == f64::from_bits(b)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// f32 against f64
+// ---------------------------------------------------------------------------------------------
+
+/// The lake's numbers (H = 0.3 m, l = 5 cm, 8 pipes) with a 1 cm Gaussian bump, 200 steps in f32 and
+/// in f64. The scheme is linear and does not amplify (it is neutrally stable under the Courant limit),
+/// so the f32 solution differs from the f64 one by the roundings it accumulated: the stored bump
+/// itself (half an ulp of 0.31 m, 1.5e-8 m), then at most half an ulp of the depth per column and step,
+/// 1.5e-8 m, plus the flows' rounding (relative 6e-8 of a flow that moves a fraction of the bump per
+/// step, far smaller). Summed over 200 steps without any cancellation: 200 · 1.5e-8 m = 3e-6 m, a
+/// few per mille of the ring's ~1e-3 m; the two must agree to that everywhere.
+#[test]
+fn f32_and_f64_agree_on_a_ring() {
+    let n = 121;
+    let run = |precision: Precision| {
+        let mut w = grid(WaterConfig {
+            cell: 0.05,
+            depth: 0.3,
+            diagonal_pipes: true,
+            precision,
+            ..WaterConfig::unit(n, n)
+        });
+        add_bump(&mut w, 60, 60, 0.01, 4.0);
+        for _ in 0..200 {
+            w.step();
+        }
+        w
+    };
+    let (a, b) = (run(Precision::F32), run(Precision::F64));
+    let mut diff = 0.0f64;
+    let mut ring = 0.0f64;
+    for iy in 0..n {
+        for ix in 0..n {
+            diff = diff.max((a.eta(ix, iy) - b.eta(ix, iy)).abs());
+            ring = ring.max(b.eta(ix, iy).abs());
+        }
+    }
+    let ulp = 2.0 * unit_roundoff(Precision::F32) * 0.25; // ulp of depths in [0.25, 0.5) m
+    let bound = (200.0 + 1.0) * ulp / 2.0;
+    println!("f32 vs f64 ring: max |Δη| = {diff:.2e} m (bound {bound:.1e} m), ring {ring:.2e} m");
+    assert!(ring > 100.0 * bound, "the ring must stand above the bound");
+    assert!(diff <= bound, "f32 strays {diff} m from f64");
+    assert!(diff > 0.0, "the f32 run must really be f32");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -706,16 +850,29 @@ fn impulses_outside_are_ignored_and_inside_are_kept() {
 /// seconds of splashes stay finite and conserve volume.
 #[test]
 fn default_lake_from_the_preset() {
-    let p = WaterParams::default();
+    // f32 (the default): 30 steps of half an ulp per changed column, random in sign, over 192 000
+    // columns: ~1e-9 relative; 1e-7 leaves room. f64: rounding only.
+    for (precision, tol) in [(Precision::F32, 1e-7), (Precision::F64, 1e-12)] {
+        default_lake(precision, tol);
+    }
+}
+
+fn default_lake(precision: Precision, tol: f64) {
+    let p = WaterParams {
+        precision,
+        ..WaterParams::default()
+    };
     let origin = p.origin_for([0.0, 0.0]);
     let mut w = WaterGrid::new(&p, origin, G, 1000.0).expect("default is valid");
+    assert_eq!(w.precision(), precision);
     assert_eq!((w.nx(), w.ny()), (800, 240));
     assert_eq!(w.origin(), [-2.0, -6.0]);
     assert!((w.step_dt() - 1.0 / 60.0).abs() < 1e-15);
     assert!(w.courant() < w.courant_limit());
     assert!(w.contains(0.0, 0.0) && !w.contains(38.01, 0.0) && !w.contains(0.0, 6.01));
     let v0 = w.volume();
-    assert!((v0 - 40.0 * 12.0 * 0.3).abs() < 1e-9);
+    // 0.3 m stored in f32 is 0.3 to 1e-8 relative.
+    assert!((v0 / (40.0 * 12.0 * 0.3) - 1.0).abs() < 2.0 * unit_roundoff(precision));
     for k in 0..30 {
         w.deposit_impulse(0.3 * k as f64, 0.01 * k as f64, 0.05);
         w.advance(1.0 / 60.0);
@@ -724,7 +881,9 @@ fn default_lake_from_the_preset() {
     assert!((w.time() - 0.5).abs() < 1e-12);
     assert!(w.surface_height(1.0, 0.0).is_finite());
     assert!(w.max_abs_eta() > 0.0 && w.max_abs_eta() < 0.3);
-    assert!(((w.volume() - v0) / v0).abs() < 1e-12);
+    let dv = ((w.volume() - v0) / v0).abs();
+    println!("default lake {precision:?}: ΔV/V = {dv:.1e}");
+    assert!(dv < tol);
     let mut tex = Vec::new();
     w.eta_f32(&mut tex);
     assert_eq!(tex.len(), 800 * 240);
@@ -857,6 +1016,7 @@ mod properties {
             gravity in 0.0f64..100.0,
             diag in any::<bool>(),
             clamp in any::<bool>(),
+            f32 in any::<bool>(),
             swell in proptest::option::of((0.0f64..0.5, 0.001f64..1000.0, -360.0f64..360.0)),
             impulse in 0.0f64..1e4,
             seed in any::<u64>(),
@@ -868,6 +1028,7 @@ mod properties {
                 damping,
                 diagonal_pipes: diag,
                 limiter: if clamp { Limiter::PaperClamp } else { Limiter::MassConserving },
+                precision: if f32 { Precision::F32 } else { Precision::F64 },
                 swell: swell.map(|(a, wl, h)| Swell { amplitude: a * depth, wavelength: wl, heading_deg: h }),
                 ..WaterParams::default()
             };
@@ -885,9 +1046,14 @@ mod properties {
             let mut tex = Vec::new();
             w.eta_f32(&mut tex);
             prop_assert!(tex.iter().all(|e| e.is_finite()));
-            prop_assert!(w.min_depth() >= -1e-12 * depth);
+            // Rounding allowances: f64 as before; f32 storage rounds each depth to 6e-8 relative,
+            // so K leaves at most a few ulps below zero, and 200 steps of such roundings over ≥ 16
+            // columns drift the volume by ≲ √(200·16)·6e-8/√16 ≈ 1e-6 relative at worst.
+            let (neg, drift) = if f32 { (1e-6, 1e-5) } else { (1e-12, 1e-10) };
+            prop_assert!(w.min_depth() >= -neg * depth, "min depth {}", w.min_depth());
             if !clamp {
-                prop_assert!(((w.volume() - v0) / v0).abs() < 1e-10);
+                let dv = ((w.volume() - v0) / v0).abs();
+                prop_assert!(dv < drift, "ΔV/V {}", dv);
                 // Energy is bounded: nothing rises above what all the water piled in one column would.
                 prop_assert!(w.max_abs_eta() <= v0 / (cell * cell) + depth);
             }

@@ -138,8 +138,20 @@ pub struct Scratch {
     normals: Vec<DVec3>,
     world: Vec<DVec3>,
     height: Vec<f64>,
-    /// (x, y, F_z on the stone) of each loaded face at the last recorded evaluation.
-    pub loads: Vec<(f64, f64, f64)>,
+    /// The load of each loaded face at the last recorded evaluation.
+    pub loads: Vec<FaceLoad>,
+}
+
+/// The vertical load of one wetted face, for the water coupling.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceLoad {
+    /// Wetted centroid (world x, y; m).
+    pub x: f64,
+    pub y: f64,
+    /// F_z of the water on the stone through this face (N; the water gets −F_z).
+    pub fz: f64,
+    /// Horizontal footprint of the wetted part: its area times |N_z| (m²).
+    pub footprint: f64,
 }
 
 /// Signed height of the stone's lowest vertex above the surface, and the world vertex positions.
@@ -284,9 +296,12 @@ pub fn evaluate(
             pl.add_face(p, d, pose.position, r, normal, f);
         }
         if record {
-            scratch
-                .loads
-                .push((patch.centroid.x, patch.centroid.y, f.z));
+            scratch.loads.push(FaceLoad {
+                x: patch.centroid.x,
+                y: patch.centroid.y,
+                fz: f.z,
+                footprint: patch.area * normal.z.abs(),
+            });
         }
     }
     if let Some(pl) = planing {

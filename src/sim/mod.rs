@@ -117,6 +117,30 @@ pub struct StepSample {
 /// Horizontal distance beyond which a run without water counts as `left_domain` (m).
 pub const OPEN_WATER_LIMIT: f64 = 1000.0;
 
+/// One face's impulse on the water over an accepted step, spread over a square of the face's wetted
+/// footprint (Newton's third law of the face force, design.md §5): a footprint rather than a point, so
+/// the forcing, and the rings, converge as the water's cells shrink below the stone's wetted area.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PendingLoad {
+    x: f64,
+    y: f64,
+    /// Half the side of the square of the footprint's area (m).
+    half: f64,
+    /// N·s, down.
+    impulse: f64,
+}
+
+impl PendingLoad {
+    fn new(l: &hydro::FaceLoad, h: f64) -> Self {
+        Self {
+            x: l.x,
+            y: l.y,
+            half: 0.5 * l.footprint.max(0.0).sqrt(),
+            impulse: l.fz * h,
+        }
+    }
+}
+
 /// The surface the stone touches: z = 0, or the water grid's heights (wavy contact).
 enum SurfaceRef<'a> {
     Flat,
@@ -166,8 +190,8 @@ struct Motion {
     h_adaptive: f64,
     fsal: Option<(Deriv, ForceSum)>,
     scratch: Scratch,
-    /// (x, y, impulse pushing the water down) gathered during the tick.
-    pending: Vec<(f64, f64, f64)>,
+    /// Face impulses pushing the water down, gathered during the tick.
+    pending: Vec<PendingLoad>,
 }
 
 /// A throw in progress: stone, water and simulated time.
@@ -378,8 +402,8 @@ impl Simulation {
             self.finish(Outcome::Timeout);
         }
         if let Some(w) = self.water.as_mut() {
-            for &(x, y, j) in &self.motion.pending {
-                w.deposit_impulse(x, y, j);
+            for l in &self.motion.pending {
+                w.deposit_impulse_box(l.x, l.y, l.half, l.impulse);
             }
             let before = w.time();
             w.advance(dt);
@@ -505,9 +529,8 @@ impl Simulation {
                                 _ => step_rk4(&dy, &prev, h_max, &mut m.scratch),
                             };
                             m.force_evals += if fixed == Integrator::Rk4 { 4 } else { 1 };
-                            for &(x, y, fz) in &m.scratch.loads {
-                                m.pending.push((x, y, fz * h_max));
-                            }
+                            m.pending
+                                .extend(m.scratch.loads.iter().map(|l| PendingLoad::new(l, h_max)));
                             (s, h_max, f)
                         }
                     }
@@ -695,9 +718,8 @@ fn adaptive_step(
             if !clipped || grow < 1.0 {
                 m.h_adaptive = (h * grow).max(h_min);
             }
-            for &(x, y, fz) in &m.scratch.loads {
-                m.pending.push((x, y, fz * h));
-            }
+            m.pending
+                .extend(m.scratch.loads.iter().map(|l| PendingLoad::new(l, h)));
             m.fsal = Some((attempt.k_end, attempt.force_end));
             return (attempt.state, h, attempt.force_end);
         }

@@ -37,17 +37,33 @@
 //! depend on the chunking or on the number of threads, bit for bit. Every sum is formed in a fixed,
 //! symmetric order (pairs of opposite pipes), so a symmetric state stays symmetric bit for bit.
 //!
-//! **Memory traffic.** f64 storage; per column and step the sweep reads the depth and the 2 or 4 pipe
-//! flows once and writes them back once: 48 B (4 pipes) or 80 B (8 pipes) of memory traffic, with no
-//! write-allocate (the lines written were just read) ([`WaterGrid::bytes_per_column_step`]). Row
-//! blocks hold each field padded by one zero at both ends, so the inner loops are plain slices without
-//! edge branches and vectorise.
+//! **Precision** ([`Precision`]). The depths, flows, bed and pressure are stored in f32 (the preset's
+//! default) or f64 ([`WaterConfig::unit`], validation). The kernel is generic over the storage scalar
+//! and does its arithmetic in the same type, the coefficients converted to it once per step. In f32
+//! the inner loops run four columns per SSE2 instruction: measured 3.5× faster than f64 arithmetic on
+//! f32 storage, which was no more conservative (nor was a depth update alone in f64, 30 % slower):
+//! what drifts is the rounding of each stored depth to f32, half an ulp per changed column and step,
+//! not the sums. Every flow is stored once and read by both columns it joins, so the fluxes still
+//! telescope: f64 conserves volume to ~1e-15 relative, f32 to ~1e-8–3e-7 over 10 000 steps with
+//! splashes and dry cells (tests/water.rs, T2 in f32). Every reading (η, depth, flow, volume) is
+//! returned in f64; [`WaterGrid::volume`] sums in f64, compensated. Determinism for any chunking and
+//! mirror symmetry hold bit for bit in both precisions (the chunks' buffers hold the storage type).
+//!
+//! **Memory traffic.** Per column and step the sweep reads the depth and the 2 or 4 pipe flows once
+//! and writes them back once: 2·(1 + pipes)·size ([`WaterGrid::bytes_per_column_step`]): 24 B (4 pipes)
+//! or 40 B (8 pipes) in f32, 48 B or 80 B in f64, with no write-allocate (the lines written were just
+//! read). water.md §6.2's fused bound of 28 B/column in f32 also reads a bed; on the flat bed none is
+//! stored (rows with a bed add one read of it). Row blocks hold each field padded by one zero at both
+//! ends, so the inner loops are plain slices without edge branches and vectorise.
 //!
 //! Units are SI throughout: metres, seconds, m³/s, pascals, newton-seconds.
 
+use std::fmt::Debug;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
 use rayon::prelude::*;
 
-use crate::sim::params::{Limiter, ParamError, Swell, WaterParams, MAX_WATER_COLUMNS};
+use crate::sim::params::{Limiter, ParamError, Precision, Swell, WaterParams, MAX_WATER_COLUMNS};
 
 /// Fraction of the Courant limit at which the automatic water step runs: r = 0.7/√2 ≈ 0.495 with axis
 /// pipes, r = 0.7·√3/2 ≈ 0.606 with diagonals. Below the limit by 30 %, and near the top, where the
@@ -59,6 +75,10 @@ pub const MAX_STEP: f64 = 1.0 / 60.0;
 pub const COURANT_LIMIT_4: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// Courant limit cΔt/l of the isotropic 8-pipe scheme, √3/2.
 pub const COURANT_LIMIT_8: f64 = 0.866_025_403_784_438_6;
+
+/// Half-width (in cells) at or below which [`WaterGrid::deposit_impulse_box`] treats its square as a
+/// point and deposits bilinearly.
+pub const BOX_MIN_HALF: f64 = 1e-6;
 
 /// Columns below which a step runs on the calling thread (rayon's overhead would dominate).
 const PARALLEL_MIN_COLUMNS: usize = 16_384;
@@ -89,11 +109,13 @@ pub struct WaterConfig {
     /// `None`: the automatic step under the Courant limit. `Some(dt)`: exactly this step, with **no**
     /// stability check (for stability studies; see [`WaterGrid::courant`]).
     pub dt: Option<f64>,
+    /// Storage (and arithmetic) precision of the depths and flows.
+    pub precision: Precision,
 }
 
 impl WaterConfig {
     /// A grid of `nx × ny` unit cells, H = 1, g = 9.81, ρ = 1000, no damping, 4 pipes, K limiter,
-    /// origin (0, 0), automatic step: the setting of water.md §5's tests.
+    /// origin (0, 0), automatic step, f64: the setting of water.md §5's tests.
     pub fn unit(nx: usize, ny: usize) -> Self {
         Self {
             nx,
@@ -107,6 +129,7 @@ impl WaterConfig {
             limiter: Limiter::MassConserving,
             origin: [0.0, 0.0],
             dt: None,
+            precision: Precision::F64,
         }
     }
 
@@ -175,7 +198,7 @@ fn positive(field: &str, v: f64) -> Result<(), ParamError> {
     }
 }
 
-/// Per-step coefficients of the kernel.
+/// Shape of the kernel and its coefficients in f64, as derived from the configuration.
 #[derive(Debug, Clone, Copy)]
 struct Coeffs {
     nx: usize,
@@ -208,60 +231,350 @@ impl Coeffs {
     fn at(&self, ix: usize, iy: usize, f: usize) -> usize {
         iy * self.stride() + f * self.w() + 1 + ix
     }
-    /// Coefficient of the x pipes of row j: a wall row also takes the mirrored diagonals.
-    fn row_edge(&self, a: f64, ad: f64, j: usize) -> f64 {
-        let walls = usize::from(j == 0) + usize::from(j + 1 == self.ny);
-        match walls {
-            0 => a,
-            1 => a + ad,
-            _ => a + 2.0 * ad,
+}
+
+/// The kernel's arithmetic: f32 or f64.
+trait Num:
+    Copy
+    + Default
+    + Debug
+    + PartialOrd
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    const ZERO: Self;
+    const ONE: Self;
+    /// Rounded from f64.
+    fn of(x: f64) -> Self;
+    /// Exactly to f64.
+    fn get(self) -> f64;
+    /// The bit pattern, widened (determinism tests).
+    #[cfg(test)]
+    fn bits(self) -> u64;
+}
+
+/// A storage scalar of the grid, and the type its arithmetic runs in ([`Real::Calc`]): f32 in f32
+/// (four lanes per SSE2 instruction; f64 arithmetic on f32 storage measured 3.5× slower and no more
+/// conservative, since the depth's own rounding is what drifts; see the module documentation) and
+/// f64 in f64.
+trait Real: Num {
+    type Calc: Num;
+    fn up(self) -> Self::Calc;
+    fn down(x: Self::Calc) -> Self;
+}
+
+macro_rules! num {
+    ($t:ty, $bits:ty) => {
+        impl Num for $t {
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            #[inline(always)]
+            fn of(x: f64) -> Self {
+                x as $t
+            }
+            #[inline(always)]
+            fn get(self) -> f64 {
+                f64::from(self)
+            }
+            #[cfg(test)]
+            fn bits(self) -> u64 {
+                u64::from(self.to_bits())
+            }
+        }
+    };
+}
+num!(f32, u32);
+num!(f64, u64);
+
+impl Real for f64 {
+    type Calc = f64;
+    #[inline(always)]
+    fn up(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn down(x: f64) -> f64 {
+        x
+    }
+}
+
+impl Real for f32 {
+    type Calc = f32;
+    #[inline(always)]
+    fn up(self) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn down(x: f32) -> f32 {
+        x
+    }
+}
+
+/// The coefficients of one step in the kernel's arithmetic type, converted once per step.
+#[derive(Debug, Clone, Copy)]
+struct Kc<C> {
+    damp: C,
+    gd: C,
+    pd: C,
+    beta: C,
+    /// The axis pipes' Δt·gA/L and Δt·A/(ρL).
+    gx: C,
+    px: C,
+    /// The same for the x pipes of a row with 0, 1 or 2 walls (they take the mirrored diagonals).
+    gx_row: [C; 3],
+    px_row: [C; 3],
+    /// The same for the y pipes of the first and last column.
+    gy_edge: C,
+    py_edge: C,
+}
+
+impl<C: Num> Kc<C> {
+    fn new(co: &Coeffs) -> Self {
+        let row = |a: f64, ad: f64| [C::of(a), C::of(a + ad), C::of(a + 2.0 * ad)];
+        let edge = |a: f64, ad: f64| C::of(if co.nx == 1 { a + 2.0 * ad } else { a + ad });
+        Self {
+            damp: C::of(co.damp),
+            gd: C::of(co.gd),
+            pd: C::of(co.pd),
+            beta: C::of(co.beta),
+            gx: C::of(co.gx),
+            px: C::of(co.px),
+            gx_row: row(co.gx, co.gd),
+            px_row: row(co.px, co.pd),
+            gy_edge: edge(co.gx, co.gd),
+            py_edge: edge(co.px, co.pd),
         }
     }
-    /// Coefficient of the y pipes of the first and last column.
-    fn col_edge(&self, a: f64, ad: f64) -> f64 {
-        if self.nx == 1 {
-            a + 2.0 * ad
-        } else {
-            a + ad
-        }
+    /// Walls of row j: 0, 1 or 2 (a one-row grid).
+    fn walls(j: usize, ny: usize) -> usize {
+        usize::from(j == 0) + usize::from(j + 1 == ny)
     }
 }
 
 /// Buffers of one chunk: new flows and K for two rows, the limited flows of the row before the chunk,
 /// copies of the old rows on either side, and the surfaces of rows with a bed. Flow and K rows are
 /// padded by one entry on each side (flows 0, K 1) so that the neighbours at ix ± 1 need no branch.
+/// Everything is held in the storage type, so a value the chunk keeps for itself equals the one its
+/// neighbour stores.
 #[derive(Debug, Clone, Default)]
-struct Scratch {
+struct Scratch<T> {
     w: usize,
     np: usize,
     /// New flows before the limiter: [slot 0..2][pipe 0..np][w].
-    qn: Vec<f64>,
+    qn: Vec<T>,
     /// Limited flows of the row before the chunk: [pipe 0..np][w].
-    qf: Vec<f64>,
+    qf: Vec<T>,
     /// Old row blocks just before and just after the chunk (rows r0 − 2, r0 − 1 and r1, r1 + 1).
-    lo: Vec<f64>,
-    hi: Vec<f64>,
+    lo: Vec<T>,
+    hi: Vec<T>,
     /// [slot 0..2][w]
-    k: Vec<f64>,
+    k: Vec<T>,
     /// Surfaces (depth + bed) of rows j and j + 1 where a bed is set.
-    h0: Vec<f64>,
-    h1: Vec<f64>,
+    h0: Vec<T>,
+    h1: Vec<T>,
 }
 
-impl Scratch {
+impl<T: Num> Scratch<T> {
     fn ensure(&mut self, nx: usize, np: usize) {
         let w = nx + 2;
         let stride = (np + 1) * w;
-        self.lo.resize(2 * stride, 0.0);
-        self.hi.resize(2 * stride, 0.0);
+        self.lo.resize(2 * stride, T::ZERO);
+        self.hi.resize(2 * stride, T::ZERO);
         if self.w != w || self.np != np {
             self.w = w;
             self.np = np;
-            self.qn = vec![0.0; 2 * np * w];
-            self.qf = vec![0.0; np * w];
-            self.k = vec![1.0; 2 * w];
-            self.h0 = vec![0.0; w];
-            self.h1 = vec![0.0; w];
+            self.qn = vec![T::ZERO; 2 * np * w];
+            self.qf = vec![T::ZERO; np * w];
+            self.k = vec![T::ONE; 2 * w];
+            self.h0 = vec![T::ZERO; w];
+            self.h1 = vec![T::ZERO; w];
+        }
+    }
+}
+
+/// The stored fields of a grid in one precision.
+#[derive(Debug, Clone)]
+struct Fields<T> {
+    /// Row blocks: [depth | qx | qy | (qd | qa)], each field `nx + 2` long (a zero pad at both ends).
+    /// qx: (ix,iy)→(ix+1,iy); qy: (ix,iy)→(ix,iy+1); qd: (ix,iy)→(ix+1,iy+1); qa: (ix,iy)→(ix−1,iy+1).
+    /// The wall pipes and the pads stay 0.
+    cur: Vec<T>,
+    /// Bed elevation + H per column (0 on the flat bed z = −H), rows padded like the state; empty
+    /// while the bed is flat.
+    bed: Vec<T>,
+    /// External pressure (Pa) during the current step, rows padded like the state; empty until the
+    /// first deposit.
+    press: Vec<T>,
+    scratch: Vec<Scratch<T>>,
+}
+
+/// The fields in the precision chosen at construction.
+#[derive(Debug, Clone)]
+enum State {
+    F32(Fields<f32>),
+    F64(Fields<f64>),
+}
+
+/// Runs `$e` with `$f` bound to the fields of either precision.
+macro_rules! each {
+    ($s:expr, $f:ident => $e:expr) => {
+        match $s {
+            State::F32($f) => $e,
+            State::F64($f) => $e,
+        }
+    };
+}
+
+impl<T: Real> Fields<T> {
+    /// Water at rest at depth `h`, every flow 0.
+    fn new(co: &Coeffs, h: f64) -> Self {
+        let mut cur = vec![T::ZERO; co.ny * co.stride()];
+        for row in cur.chunks_exact_mut(co.stride()) {
+            row[1..=co.nx].fill(T::of(h));
+        }
+        Self {
+            cur,
+            bed: Vec::new(),
+            press: Vec::new(),
+            scratch: Vec::new(),
+        }
+    }
+
+    fn get(&self, i: usize) -> f64 {
+        self.cur[i].get()
+    }
+
+    fn set(&mut self, i: usize, v: f64) {
+        self.cur[i] = T::of(v);
+    }
+
+    /// Bed + H at padded index `i`, if a bed is stored.
+    fn bed_at(&self, i: usize) -> Option<f64> {
+        self.bed.get(i).map(|b| b.get())
+    }
+
+    fn set_bed(&mut self, len: usize, i: usize, v: f64) {
+        if self.bed.is_empty() {
+            self.bed = vec![T::ZERO; len];
+        }
+        self.bed[i] = T::of(v);
+    }
+
+    fn set_press(&mut self, len: usize, i: usize, v: f64) {
+        if self.press.is_empty() {
+            self.press = vec![T::ZERO; len];
+        }
+        self.press[i] = T::of(v);
+    }
+
+    /// η of every column, row-major, as f32 (the surface in f64, then rounded once).
+    fn eta_f32(&self, co: &Coeffs, h: f64, out: &mut Vec<f32>) {
+        let nx = co.nx;
+        out.clear();
+        out.reserve(nx * co.ny);
+        for (iy, row) in self.cur.chunks_exact(co.stride()).enumerate() {
+            let d = &row[1..=nx];
+            let at = iy * co.w() + 1;
+            match self.bed.get(at..at + nx) {
+                Some(b) => out.extend(
+                    d.iter()
+                        .zip(b)
+                        .map(|(&d, &b)| ((d.get() + b.get()) - h) as f32),
+                ),
+                None => out.extend(d.iter().map(|&d| (d.get() - h) as f32)),
+            }
+        }
+    }
+
+    /// Σ depth over the columns, in f64, Neumaier-compensated.
+    fn depth_sum(&self, co: &Coeffs) -> f64 {
+        let mut sum = Neumaier::default();
+        for row in self.cur.chunks_exact(co.stride()) {
+            for &d in &row[1..=co.nx] {
+                sum.add(d.get());
+            }
+        }
+        sum.value()
+    }
+
+    fn min_depth(&self, co: &Coeffs) -> f64 {
+        let mut m = f64::INFINITY;
+        for row in self.cur.chunks_exact(co.stride()) {
+            for &d in &row[1..=co.nx] {
+                let d = d.get();
+                if d.is_nan() {
+                    return f64::NAN;
+                }
+                m = m.min(d);
+            }
+        }
+        m
+    }
+
+    fn clear_flows(&mut self, co: &Coeffs) {
+        let w = co.w();
+        for row in self.cur.chunks_exact_mut(co.stride()) {
+            row[w..].fill(T::ZERO);
+        }
+    }
+
+    /// One step over the chunks (see [`WaterGrid::step`]).
+    fn step(
+        &mut self,
+        co: &Coeffs,
+        chunks: &[(usize, usize)],
+        row_bed: &[bool],
+        row_press: &[bool],
+        has_press: bool,
+    ) {
+        let kc = Kc::<T::Calc>::new(co);
+        let stride = co.stride();
+        if self.scratch.len() < chunks.len() {
+            self.scratch.resize_with(chunks.len(), Scratch::default);
+        }
+        for s in self.scratch.iter_mut().take(chunks.len()) {
+            s.ensure(co.nx, co.nf - 1);
+        }
+        // Each chunk keeps a copy of the old rows it reads beyond its ends (two each side): the
+        // neighbouring chunks overwrite them in place.
+        for (&(r0, r1), s) in chunks
+            .iter()
+            .zip(self.scratch.iter_mut())
+            .skip(usize::from(chunks.len() <= 1))
+        {
+            let lo = r0.saturating_sub(2);
+            s.lo[(lo + 2 - r0) * stride..].copy_from_slice(&self.cur[lo * stride..r0 * stride]);
+            let hi = (r1 + 2).min(co.ny);
+            s.hi[..(hi - r1) * stride].copy_from_slice(&self.cur[r1 * stride..hi * stride]);
+        }
+        let input = Input {
+            bed: (!self.bed.is_empty()).then_some(self.bed.as_slice()),
+            press: (has_press && !self.press.is_empty()).then_some(self.press.as_slice()),
+            row_bed,
+            row_press,
+        };
+        if chunks.len() <= 1 {
+            if let Some(s) = self.scratch.first_mut() {
+                run_chunk(co, &kc, &input, 0, co.ny, &mut self.cur, s);
+            }
+        } else {
+            let mut parts: Vec<(usize, usize, &mut [T], &mut Scratch<T>)> =
+                Vec::with_capacity(chunks.len());
+            let mut rest: &mut [T] = &mut self.cur;
+            for (&(r0, r1), s) in chunks.iter().zip(self.scratch.iter_mut()) {
+                let (head, tail) = rest.split_at_mut((r1 - r0) * stride);
+                parts.push((r0, r1, head, s));
+                rest = tail;
+            }
+            parts
+                .into_par_iter()
+                .for_each(|(r0, r1, out, s)| run_chunk(co, &kc, &input, r0, r1, out, s));
         }
     }
 }
@@ -272,23 +585,15 @@ pub struct WaterGrid {
     cfg: WaterConfig,
     dt: f64,
     co: Coeffs,
-    /// Row blocks: [depth | qx | qy | (qd | qa)], each field `nx + 2` long (a zero pad at both ends).
-    /// qx: (ix,iy)→(ix+1,iy); qy: (ix,iy)→(ix,iy+1); qd: (ix,iy)→(ix+1,iy+1); qa: (ix,iy)→(ix−1,iy+1).
-    /// The wall pipes and the pads stay 0.
-    cur: Vec<f64>,
-    /// Bed elevation + H per column (0 on the flat bed z = −H), rows padded like the state; empty
-    /// while the bed is flat.
-    bed: Vec<f64>,
+    /// Depths, flows, bed and pressure in the grid's precision.
+    state: State,
+    /// Rows whose bed is set.
     row_bed: Vec<bool>,
     /// Impulses (N·s, down) deposited since the last step; empty until the first deposit.
     pending: Vec<f64>,
     touched: Vec<usize>,
-    /// External pressure (Pa) during the current step, rows padded like the state; empty until the
-    /// first deposit.
-    press: Vec<f64>,
     /// Rows holding external pressure during the current step.
     row_press: Vec<bool>,
-    scratch: Vec<Scratch>,
     chunk_rows: Option<usize>,
     steps: u64,
     clock: f64,
@@ -324,6 +629,7 @@ impl WaterGrid {
             limiter: params.limiter,
             origin,
             dt: None,
+            precision: params.precision,
         };
         let mut grid = Self::with_config(cfg)?;
         if let Some(swell) = params.swell {
@@ -368,22 +674,19 @@ impl WaterGrid {
             beta: dt / (l * l),
             seg: SEGMENT,
         };
-        let mut cur = vec![0.0; cfg.ny * co.stride()];
-        for row in cur.chunks_exact_mut(co.stride()) {
-            row[1..=cfg.nx].fill(h);
-        }
+        let state = match cfg.precision {
+            Precision::F32 => State::F32(Fields::new(&co, h)),
+            Precision::F64 => State::F64(Fields::new(&co, h)),
+        };
         Ok(Self {
             cfg,
             dt,
             co,
-            cur,
-            bed: Vec::new(),
+            state,
             row_bed: vec![false; cfg.ny],
             pending: Vec::new(),
             touched: Vec::new(),
-            press: Vec::new(),
             row_press: vec![false; cfg.ny],
-            scratch: Vec::new(),
             chunk_rows: None,
             steps: 0,
             clock: 0.0,
@@ -441,11 +744,19 @@ impl WaterGrid {
             COURANT_LIMIT_4
         }
     }
-    /// Memory traffic of one column update (B): the depth and every pipe flow read once and written
-    /// back once, in f64 (48 B with 4 pipes, 80 B with 8). The update is in place, so there is no
-    /// write-allocate traffic on top.
+    /// Storage precision of the depths and flows.
+    pub fn precision(&self) -> Precision {
+        self.cfg.precision
+    }
+    /// Memory traffic of one column update (B) on the flat bed: the depth and every pipe flow read
+    /// once and written back once in the storage precision: 24 B (4 pipes) or 40 B (8 pipes) in f32,
+    /// 48 B or 80 B in f64. The update is in place, so there is no write-allocate traffic on top.
     pub fn bytes_per_column_step(&self) -> usize {
-        2 * self.co.nf * std::mem::size_of::<f64>()
+        let size = match self.cfg.precision {
+            Precision::F32 => std::mem::size_of::<f32>(),
+            Precision::F64 => std::mem::size_of::<f64>(),
+        };
+        2 * self.co.nf * size
     }
 
     /// Adds `dt` (s) to the water's clock and runs every whole water step now due (0, 1 or many).
@@ -467,47 +778,9 @@ impl WaterGrid {
     pub fn step(&mut self) {
         self.apply_pending_pressure();
         let chunks = self.chunk_bounds();
-        let co = self.co;
-        let stride = co.stride();
-        for s in self.scratch.iter_mut().take(chunks.len()) {
-            s.ensure(co.nx, co.nf - 1);
-        }
-        // Each chunk keeps a copy of the old rows it reads beyond its ends (two each side): the
-        // neighbouring chunks overwrite them in place.
-        for (&(r0, r1), s) in chunks
-            .iter()
-            .zip(self.scratch.iter_mut())
-            .skip(usize::from(chunks.len() <= 1))
-        {
-            let lo = r0.saturating_sub(2);
-            s.lo[(lo + 2 - r0) * stride..].copy_from_slice(&self.cur[lo * stride..r0 * stride]);
-            let hi = (r1 + 2).min(co.ny);
-            s.hi[..(hi - r1) * stride].copy_from_slice(&self.cur[r1 * stride..hi * stride]);
-        }
-        let input = Input {
-            bed: (!self.bed.is_empty()).then_some(self.bed.as_slice()),
-            press: (!self.touched.is_empty() && !self.press.is_empty())
-                .then_some(self.press.as_slice()),
-            row_bed: &self.row_bed,
-            row_press: &self.row_press,
-        };
-        if chunks.len() <= 1 {
-            if let Some(s) = self.scratch.first_mut() {
-                run_chunk(&co, &input, 0, co.ny, &mut self.cur, s);
-            }
-        } else {
-            let mut parts: Vec<(usize, usize, &mut [f64], &mut Scratch)> =
-                Vec::with_capacity(chunks.len());
-            let mut rest: &mut [f64] = &mut self.cur;
-            for (&(r0, r1), s) in chunks.iter().zip(self.scratch.iter_mut()) {
-                let (head, tail) = rest.split_at_mut((r1 - r0) * stride);
-                parts.push((r0, r1, head, s));
-                rest = tail;
-            }
-            parts
-                .into_par_iter()
-                .for_each(|(r0, r1, out, s)| run_chunk(&co, &input, r0, r1, out, s));
-        }
+        let has_press = !self.touched.is_empty();
+        let (co, row_bed, row_press) = (&self.co, &self.row_bed, &self.row_press);
+        each!(&mut self.state, f => f.step(co, &chunks, row_bed, row_press, has_press));
         self.clear_pressure();
         self.steps += 1;
     }
@@ -518,7 +791,7 @@ impl WaterGrid {
         self.chunk_rows = rows.map(|r| r.max(2));
     }
 
-    fn chunk_bounds(&mut self) -> Vec<(usize, usize)> {
+    fn chunk_bounds(&self) -> Vec<(usize, usize)> {
         let ny = self.co.ny;
         let n = match self.chunk_rows {
             Some(r) => ny.div_ceil(r).min(ny / 2).max(1),
@@ -531,9 +804,6 @@ impl WaterGrid {
                 }
             }
         };
-        if self.scratch.len() < n {
-            self.scratch.resize_with(n, Scratch::default);
-        }
         // Even split: every chunk has at least 2 rows when n ≤ ny / 2.
         (0..n).map(|c| (c * ny / n, (c + 1) * ny / n)).collect()
     }
@@ -559,6 +829,34 @@ impl WaterGrid {
         self.deposit_impulse_cell(i1, j0, a1);
         self.deposit_impulse_cell(i0, j1, b - b1);
         self.deposit_impulse_cell(i1, j1, b1);
+    }
+
+    /// Impulse (N·s, down) spread uniformly over the axis-aligned square [x − half, x + half] ×
+    /// [y − half, y + half] (a contact footprint): each column takes the impulse times the fraction of
+    /// the square its cell covers, the product of the two 1D overlaps, so the parts sum to the impulse
+    /// to rounding and the pressure does not depend on the cell size once the cells are smaller than
+    /// the square. Parts beyond the grid's edge go to the edge columns, so nothing is lost while the
+    /// centre is over the grid. Ignored if the centre is outside the grid, or the impulse or `half` is
+    /// not finite; a square of `half` ≤ [`BOX_MIN_HALF`]·l (a point) is deposited bilinearly, as by
+    /// [`Self::deposit_impulse`].
+    pub fn deposit_impulse_box(&mut self, x: f64, y: f64, half: f64, impulse: f64) {
+        if !impulse.is_finite() || !half.is_finite() || !self.contains(x, y) {
+            return;
+        }
+        let l = self.cfg.cell;
+        if half <= BOX_MIN_HALF * l {
+            self.deposit_impulse(x, y, impulse);
+            return;
+        }
+        let [ox, oy] = self.cfg.origin;
+        let (i0, wx) = overlaps((x - ox) / l, half / l, self.cfg.nx);
+        let (j0, wy) = overlaps((y - oy) / l, half / l, self.cfg.ny);
+        for (j, &fy) in wy.iter().enumerate() {
+            let row = impulse * fy;
+            for (i, &fx) in wx.iter().enumerate() {
+                self.deposit_impulse_cell(i0 + i, j0 + j, row * fx);
+            }
+        }
     }
 
     /// Impulse (N·s, down) on one column; ignored outside the grid or if not finite.
@@ -589,14 +887,13 @@ impl WaterGrid {
             return;
         }
         let (nx, w) = (self.cfg.nx, self.co.w());
-        if self.press.is_empty() {
-            self.press = vec![0.0; self.cfg.ny * w];
-        }
+        let len = self.cfg.ny * w;
         let scale = 1.0 / (self.dt * self.cfg.cell * self.cfg.cell);
         // Two passes: a column may be listed twice if its sum returned to zero in between.
         for &i in &self.touched {
             let (iy, ix) = (i / nx, i % nx);
-            self.press[iy * w + 1 + ix] = self.pending[i] * scale;
+            let p = self.pending[i] * scale;
+            each!(&mut self.state, f => f.set_press(len, iy * w + 1 + ix, p));
             self.row_press[iy] = true;
         }
         for &i in &self.touched {
@@ -606,9 +903,10 @@ impl WaterGrid {
 
     fn clear_pressure(&mut self) {
         let (nx, w) = (self.cfg.nx, self.co.w());
+        let len = self.cfg.ny * w;
         for &i in &self.touched {
             let (iy, ix) = (i / nx, i % nx);
-            self.press[iy * w + 1 + ix] = 0.0;
+            each!(&mut self.state, f => f.set_press(len, iy * w + 1 + ix, 0.0));
             self.row_press[iy] = false;
         }
         self.touched.clear();
@@ -656,38 +954,24 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny {
             return 0.0;
         }
-        let d = self.cur[self.at(ix, iy, 0)];
-        match self.bed.get(iy * self.co.w() + 1 + ix) {
-            Some(&b) => (d + b) - self.cfg.depth,
+        let (i, j) = (self.at(ix, iy, 0), iy * self.co.w() + 1 + ix);
+        let (d, b) = each!(&self.state, f => (f.get(i), f.bed_at(j)));
+        match b {
+            Some(b) => (d + b) - self.cfg.depth,
             None => d - self.cfg.depth,
         }
     }
 
     /// η of every column, row-major (iy * nx + ix), for rendering as a texture.
     pub fn eta_f32(&self, out: &mut Vec<f32>) {
-        let (nx, h) = (self.cfg.nx, self.cfg.depth);
-        out.clear();
-        out.reserve(nx * self.cfg.ny);
-        for (iy, row) in self.cur.chunks_exact(self.co.stride()).enumerate() {
-            let d = &row[1..=nx];
-            let at = iy * self.co.w() + 1;
-            match self.bed.get(at..at + nx) {
-                Some(b) => out.extend(d.iter().zip(b).map(|(&d, &b)| ((d + b) - h) as f32)),
-                None => out.extend(d.iter().map(|&d| (d - h) as f32)),
-            }
-        }
+        let (co, h) = (&self.co, self.cfg.depth);
+        each!(&self.state, f => f.eta_f32(co, h, out));
     }
 
     /// Total water volume (m³): l²·Σ depth, Neumaier-compensated.
     pub fn volume(&self) -> f64 {
-        let nx = self.cfg.nx;
-        let mut sum = Neumaier::default();
-        for row in self.cur.chunks_exact(self.co.stride()) {
-            for &d in &row[1..=nx] {
-                sum.add(d);
-            }
-        }
-        sum.value() * self.cfg.cell * self.cfg.cell
+        let sum = each!(&self.state, f => f.depth_sum(&self.co));
+        sum * self.cfg.cell * self.cfg.cell
     }
 
     /// Water depth (m) of column (ix, iy); 0 outside the grid.
@@ -695,22 +979,13 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny {
             return 0.0;
         }
-        self.cur[self.at(ix, iy, 0)]
+        let i = self.at(ix, iy, 0);
+        each!(&self.state, f => f.get(i))
     }
 
     /// Smallest depth of any column (m); NaN if any depth is NaN.
     pub fn min_depth(&self) -> f64 {
-        let nx = self.cfg.nx;
-        let mut m = f64::INFINITY;
-        for row in self.cur.chunks_exact(self.co.stride()) {
-            for &d in &row[1..=nx] {
-                if d.is_nan() {
-                    return f64::NAN;
-                }
-                m = m.min(d);
-            }
-        }
-        m
+        each!(&self.state, f => f.min_depth(&self.co))
     }
 
     /// Largest |η| over the grid (m); NaN if any η is NaN.
@@ -731,10 +1006,8 @@ impl WaterGrid {
     /// Bed elevation z (m) of column (ix, iy): −H unless set by [`Self::set_bed`] (or outside the grid).
     pub fn bed(&self, ix: usize, iy: usize) -> f64 {
         let b = if ix < self.cfg.nx && iy < self.cfg.ny {
-            self.bed
-                .get(iy * self.co.w() + 1 + ix)
-                .copied()
-                .unwrap_or(0.0)
+            let j = iy * self.co.w() + 1 + ix;
+            each!(&self.state, f => f.bed_at(j)).unwrap_or(0.0)
         } else {
             0.0
         };
@@ -747,7 +1020,8 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny || pipe + 1 >= self.co.nf {
             return 0.0;
         }
-        self.cur[self.at(ix, iy, pipe + 1)]
+        let i = self.at(ix, iy, pipe + 1);
+        each!(&self.state, f => f.get(i))
     }
 
     /// Index of field `f` (0 depth, 1.. pipes) of column (ix, iy) in the state.
@@ -761,7 +1035,8 @@ impl WaterGrid {
     pub fn set_depth(&mut self, ix: usize, iy: usize, depth: f64) {
         if ix < self.cfg.nx && iy < self.cfg.ny && depth.is_finite() {
             let i = self.at(ix, iy, 0);
-            self.cur[i] = depth.max(0.0);
+            let d = depth.max(0.0);
+            each!(&mut self.state, f => f.set(i, d));
         }
     }
 
@@ -785,19 +1060,14 @@ impl WaterGrid {
             return;
         }
         let w = self.co.w();
-        if self.bed.is_empty() {
-            self.bed = vec![0.0; self.cfg.ny * w];
-        }
-        self.bed[iy * w + 1 + ix] = z + self.cfg.depth;
+        let (len, v) = (self.cfg.ny * w, z + self.cfg.depth);
+        each!(&mut self.state, f => f.set_bed(len, iy * w + 1 + ix, v));
         self.row_bed[iy] = true;
     }
 
     /// Zeroes every flow (the water is then at rest, whatever its surface).
     pub fn clear_flows(&mut self) {
-        let w = self.co.w();
-        for row in self.cur.chunks_exact_mut(self.co.stride()) {
-            row[w..].fill(0.0);
-        }
+        each!(&mut self.state, f => f.clear_flows(&self.co));
     }
 
     /// Starts a travelling swell η = A·sin(k·(n·x)) (n = heading) over the whole grid, with the flows of
@@ -839,24 +1109,54 @@ impl WaterGrid {
                 let xc = ox + (ix as f64 + 0.5) * l;
                 let bed = self.bed(ix, iy);
                 let q = |f: usize| co.at(ix, iy, f);
-                self.cur[q(0)] = (eta(xc, yc, 0.0) - bed).max(0.0);
+                let mut put = |f: usize, v: f64| each!(&mut self.state, s => s.set(q(f), v));
+                put(0, (eta(xc, yc, 0.0) - bed).max(0.0));
                 if ix + 1 < nx {
-                    self.cur[q(1)] = fx * cs * eta(xc + 0.5 * l, yc, t_half);
+                    put(1, fx * cs * eta(xc + 0.5 * l, yc, t_half));
                 }
                 if iy + 1 < ny {
-                    self.cur[q(2)] = fx * sn * eta(xc, yc + 0.5 * l, t_half);
+                    put(2, fx * sn * eta(xc, yc + 0.5 * l, t_half));
                     if diag && ix + 1 < nx {
-                        self.cur[q(3)] =
-                            fd * r2 * (cs + sn) * eta(xc + 0.5 * l, yc + 0.5 * l, t_half);
+                        put(
+                            3,
+                            fd * r2 * (cs + sn) * eta(xc + 0.5 * l, yc + 0.5 * l, t_half),
+                        );
                     }
                     if diag && ix > 0 {
-                        self.cur[q(4)] =
-                            fd * r2 * (sn - cs) * eta(xc - 0.5 * l, yc + 0.5 * l, t_half);
+                        put(
+                            4,
+                            fd * r2 * (sn - cs) * eta(xc - 0.5 * l, yc + 0.5 * l, t_half),
+                        );
                     }
                 }
             }
         }
     }
+}
+
+/// 1D overlaps of the interval [c − h, c + h] (in cells from the grid's edge, c in [0, n)) with the
+/// cells [i, i + 1) of a row of n, as fractions of the interval: the first cell index and the
+/// fractions from it on. The first and last cells of the row extend to ∓∞, so what lies beyond the
+/// edge goes to them. The cells' bounds are the clamped interval's, so the fractions telescope to 1.
+fn overlaps(c: f64, h: f64, n: usize) -> (usize, Vec<f64>) {
+    let (lo, hi) = (c - h, c + h);
+    let last = n - 1;
+    let i0 = (lo.floor().max(0.0) as usize).min(last);
+    let i1 = ((hi.ceil().max(1.0) as usize) - 1).clamp(i0, last);
+    let span = hi - lo;
+    let bound = |i: usize| {
+        if i == 0 {
+            lo
+        } else if i > last {
+            hi
+        } else {
+            (i as f64).clamp(lo, hi)
+        }
+    };
+    let w = (i0..=i1)
+        .map(|i| (bound(i + 1) - bound(i)) / span)
+        .collect();
+    (i0, w)
 }
 
 /// Neumaier's compensated sum.
@@ -886,9 +1186,9 @@ impl Neumaier {
 // ---------------------------------------------------------------------------------------------
 
 /// Read-only inputs of one step.
-struct Input<'a> {
-    bed: Option<&'a [f64]>,
-    press: Option<&'a [f64]>,
+struct Input<'a, T> {
+    bed: Option<&'a [T]>,
+    press: Option<&'a [T]>,
     row_bed: &'a [bool],
     row_press: &'a [bool],
 }
@@ -897,24 +1197,32 @@ struct Input<'a> {
 /// the L1 cache between the stages.
 const SEGMENT: usize = 128;
 
-fn run_chunk(co: &Coeffs, input: &Input, r0: usize, r1: usize, own: &mut [f64], s: &mut Scratch) {
+fn run_chunk<T: Real>(
+    co: &Coeffs,
+    kc: &Kc<T::Calc>,
+    input: &Input<T>,
+    r0: usize,
+    r1: usize,
+    own: &mut [T],
+    s: &mut Scratch<T>,
+) {
     if co.nf == 5 {
-        chunk::<true>(co, input, r0, r1, own, s);
+        chunk::<T, true>(co, kc, input, r0, r1, own, s);
     } else {
-        chunk::<false>(co, input, r0, r1, own, s);
+        chunk::<T, false>(co, kc, input, r0, r1, own, s);
     }
 }
 
 /// Old row block `j` as seen by the chunk [r0, r1) at row `at`: the copies of the two rows on either
 /// side, or the chunk's own rows from `at` on (`tail`), which are not overwritten yet.
 #[inline]
-fn old_row<'a>(
+fn old_row<'a, T>(
     j: usize,
     (r0, r1, at, stride): (usize, usize, usize, usize),
-    tail: &'a [f64],
-    lo: &'a [f64],
-    hi: &'a [f64],
-) -> &'a [f64] {
+    tail: &'a [T],
+    lo: &'a [T],
+    hi: &'a [T],
+) -> &'a [T] {
     if j < r0 {
         let k = j + 2 - r0;
         &lo[k * stride..(k + 1) * stride]
@@ -935,13 +1243,14 @@ fn old_row<'a>(
 /// L1 when the next stage reads it. A row is overwritten only after the last read of its old values.
 /// Row ny is virtual (K = 1). Two slots per buffer hold rows j − 1 and j; a slot not yet written holds
 /// zero flows, which is what the rows before the grid carry.
-fn chunk<const DIAG: bool>(
+fn chunk<T: Real, const DIAG: bool>(
     co: &Coeffs,
-    input: &Input,
+    kc: &Kc<T::Calc>,
+    input: &Input<T>,
     r0: usize,
     r1: usize,
-    own: &mut [f64],
-    s: &mut Scratch,
+    own: &mut [T],
+    s: &mut Scratch<T>,
 ) {
     let (nx, ny) = (co.nx, co.ny);
     let stride = co.stride();
@@ -957,9 +1266,9 @@ fn chunk<const DIAG: bool>(
         hi,
         ..
     } = s;
-    qn.fill(0.0);
-    qf.fill(0.0);
-    k.fill(1.0);
+    qn.fill(T::ZERO);
+    qf.fill(T::ZERO);
+    k.fill(T::ONE);
     for j in r0.saturating_sub(2)..=r1 {
         let cur = j % 2;
         let real = j < ny;
@@ -967,12 +1276,12 @@ fn chunk<const DIAG: bool>(
         let finish = j >= r0 && j > 0; // F(j − 1) runs; D(j − 1) too if row j − 1 is the chunk's
         let mine = finish && j > r0;
         if !real {
-            k[cur * w..(cur + 1) * w].fill(1.0);
+            k[cur * w..(cur + 1) * w].fill(T::ONE);
         }
         // The chunk's rows before j (written) and from j on (still old).
         let at = j.clamp(r0, r1);
         let (head, tail) = own.split_at_mut((at - r0) * stride);
-        let tail: &[f64] = tail;
+        let tail: &[T] = tail;
         let span = (r0, r1, at, stride);
         let jr = j.min(ny - 1);
         let ju = (j + 1).min(ny - 1);
@@ -990,7 +1299,7 @@ fn chunk<const DIAG: bool>(
             surface(h0, &row[..w], input.bed, jr * w);
             surface(h1, &up[..w], input.bed, ju * w);
         }
-        let (ha, hb): (&[f64], &[f64]) = if bed_rows {
+        let (ha, hb): (&[T], &[T]) = if bed_rows {
             (h0, h1)
         } else if real {
             (&row[..w], &up[..w])
@@ -998,15 +1307,15 @@ fn chunk<const DIAG: bool>(
             (&[], &[])
         };
         let (qa, qb) = qn.split_at_mut(blk);
-        let (qn_j, qn_prev): (&mut [f64], &[f64]) = if cur == 0 { (qa, qb) } else { (qb, qa) };
+        let (qn_j, qn_prev): (&mut [T], &[T]) = if cur == 0 { (qa, qb) } else { (qb, qa) };
         let (ka, kb) = k.split_at_mut(w);
-        let (k_j, k_prev): (&mut [f64], &[f64]) = if cur == 0 { (ka, kb) } else { (kb, ka) };
+        let (k_j, k_prev): (&mut [T], &[T]) = if cur == 0 { (ka, kb) } else { (kb, ka) };
         // Where F(j − 1) and D(j − 1) write, and the limited flows of row j − 2 that D reads.
-        let (d_out, f_out, before): (&mut [f64], &mut [f64], &[f64]) = if mine {
+        let (d_out, f_out, before): (&mut [T], &mut [T], &[T]) = if mine {
             let n = head.len() / stride; // rows r0 .. j: row j − 1 is the last
             let (older, last) = head.split_at_mut((n - 1) * stride);
             let (d, f) = last.split_at_mut(w);
-            let before: &[f64] = if n >= 2 {
+            let before: &[T] = if n >= 2 {
                 &older[(n - 2) * stride + w..]
             } else {
                 &qf[..]
@@ -1019,18 +1328,18 @@ fn chunk<const DIAG: bool>(
         loop {
             let b = (a + co.seg).min(nx + 1);
             if real {
-                flows::<DIAG>(co, input, j, a, b, row, ha, hb, qn_j);
+                flows::<T, DIAG>(co, kc, input, j, a, b, row, ha, hb, qn_j);
                 if limit {
-                    limiter::<DIAG>(k_j, &row[..w], qn_j, qn_prev, w, co.beta, a, b);
+                    limiter::<T, DIAG>(k_j, &row[..w], qn_j, qn_prev, w, kc.beta, a, b);
                 }
             }
             // F and D lag one column behind: [a − 1, b − 1), and the last column at the end.
             let fb = if b == nx + 1 { nx + 1 } else { b - 1 };
             let fa = a.max(2) - 1;
             if finish && fa < fb {
-                finalize::<DIAG>(f_out, qn_prev, k_prev, k_j, w, fa, fb);
+                finalize::<T, DIAG>(f_out, qn_prev, k_prev, k_j, w, fa, fb);
                 if mine {
-                    depth::<DIAG>(d_out, f_out, before, w, co.beta, co.clamp, fa, fb);
+                    depth::<T, DIAG>(d_out, f_out, before, w, kc.beta, co.clamp, fa, fb);
                 }
             }
             if b == nx + 1 {
@@ -1044,16 +1353,17 @@ fn chunk<const DIAG: bool>(
 /// A(j) on padded columns [a, b): the new, unlimited flows of row j's pipes into `qn` ([pipe][w]), from
 /// the old flows of row j and the surfaces `h0`, `h1` of rows j and j + 1 (padded).
 #[allow(clippy::too_many_arguments)]
-fn flows<const DIAG: bool>(
+fn flows<T: Real, const DIAG: bool>(
     co: &Coeffs,
-    input: &Input,
+    kc: &Kc<T::Calc>,
+    input: &Input<T>,
     j: usize,
     a: usize,
     b: usize,
-    row: &[f64],
-    h0: &[f64],
-    h1: &[f64],
-    qn: &mut [f64],
+    row: &[T],
+    h0: &[T],
+    h1: &[T],
+    qn: &mut [T],
 ) {
     let (nx, ny, w) = (co.nx, co.ny, co.w());
     let has_up = j + 1 < ny;
@@ -1061,38 +1371,62 @@ fn flows<const DIAG: bool>(
     let (qn_y, rest) = rest.split_at_mut(w);
     let (qn_d, qn_a) = rest.split_at_mut(if DIAG { w } else { 0 });
     let old = |f: usize| &row[f * w..(f + 1) * w];
-    let (gx, gd, damp) = (co.gx, co.gd, co.damp);
+    let (gx, gd, damp) = (kc.gx, kc.gd, kc.damp);
+    let walls = Kc::<T::Calc>::walls(j, ny);
     // Interior ranges: the x and +x+y pipes of the last column and the −x+y pipe of the first are walls.
     let bx = b.min(nx);
     let aa = a.max(2);
-    grad(qn_x, old(1), h0, h0, 1, damp, co.row_edge(gx, gd, j), a, bx);
-    if b > nx {
-        qn_x[nx] = 0.0;
-    }
     if has_up {
-        grad(qn_y, old(2), h0, h1, 0, damp, gx, a, b);
-        let ge = co.col_edge(gx, gd);
-        for e in edges(nx) {
-            if a <= e && e < b {
-                qn_y[e] = damp * old(2)[e] + ge * (h0[e] - h1[e]);
+        // One pass over every pipe of the segment (the wall pipes are computed, then zeroed).
+        let gxr = kc.gx_row[walls];
+        let n = b - a;
+        let (q_x, q_y) = (&old(1)[a..b], &old(2)[a..b]);
+        let (h, hr, hu) = (&h0[a..b], &h0[a + 1..b + 1], &h1[a..b]);
+        if DIAG {
+            let (q_d, q_a) = (&old(3)[a..b], &old(4)[a..b]);
+            let (hur, hul) = (&h1[a + 1..b + 1], &h1[a - 1..b - 1]);
+            let (fx, fy) = (&mut qn_x[a..b], &mut qn_y[a..b]);
+            let (fd, fa) = (&mut qn_d[a..b], &mut qn_a[a..b]);
+            for i in 0..n {
+                let hi = h[i].up();
+                fx[i] = T::down(damp * q_x[i].up() + gxr * (hi - hr[i].up()));
+                fy[i] = T::down(damp * q_y[i].up() + gx * (hi - hu[i].up()));
+                fd[i] = T::down(damp * q_d[i].up() + gd * (hi - hur[i].up()));
+                fa[i] = T::down(damp * q_a[i].up() + gd * (hi - hul[i].up()));
+            }
+        } else {
+            let (fx, fy) = (&mut qn_x[a..b], &mut qn_y[a..b]);
+            for i in 0..n {
+                let hi = h[i].up();
+                fx[i] = T::down(damp * q_x[i].up() + gxr * (hi - hr[i].up()));
+                fy[i] = T::down(damp * q_y[i].up() + gx * (hi - hu[i].up()));
             }
         }
-        if DIAG {
-            grad(qn_d, old(3), h0, h1, 1, damp, gd, a, bx);
-            grad(qn_a, old(4), h0, h1, -1, damp, gd, aa, b);
+        if b > nx {
+            qn_x[nx] = T::ZERO;
+        }
+        let ge = kc.gy_edge;
+        for e in edges(nx) {
+            if a <= e && e < b {
+                qn_y[e] = T::down(damp * old(2)[e].up() + ge * (h0[e].up() - h1[e].up()));
+            }
         }
     } else {
-        qn_y[a..b].fill(0.0);
+        grad(qn_x, old(1), h0, h0, 1, damp, kc.gx_row[walls], a, bx);
+        if b > nx {
+            qn_x[nx] = T::ZERO;
+        }
+        qn_y[a..b].fill(T::ZERO);
         if DIAG {
-            qn_d[a..b].fill(0.0);
-            qn_a[a..b].fill(0.0);
+            qn_d[a..b].fill(T::ZERO);
+            qn_a[a..b].fill(T::ZERO);
         }
     }
     if DIAG && b > nx {
-        qn_d[nx] = 0.0;
+        qn_d[nx] = T::ZERO;
     }
     if DIAG && a <= 1 {
-        qn_a[1] = 0.0;
+        qn_a[1] = T::ZERO;
     }
     // External pressure E: + Δt·(A/(ρL))·(E_i − E_j), on the rows that hold some.
     let Some(press) = input.press else {
@@ -1104,14 +1438,14 @@ fn flows<const DIAG: bool>(
     }
     let p0 = &press[j * w..(j + 1) * w];
     let p1 = &press[ju * w..(ju + 1) * w];
-    let (px, pd) = (co.px, co.pd);
-    add_grad(qn_x, p0, p0, 1, co.row_edge(px, pd, j), a, bx);
+    let (px, pd) = (kc.px, kc.pd);
+    add_grad(qn_x, p0, p0, 1, kc.px_row[walls], a, bx);
     if has_up {
         add_grad(qn_y, p0, p1, 0, px, aa, bx);
-        let pe = co.col_edge(px, pd);
+        let pe = kc.py_edge;
         for e in edges(nx) {
             if a <= e && e < b {
-                qn_y[e] += pe * (p0[e] - p1[e]);
+                qn_y[e] = T::down(qn_y[e].up() + pe * (p0[e].up() - p1[e].up()));
             }
         }
         if DIAG {
@@ -1127,14 +1461,14 @@ fn edges(nx: usize) -> impl Iterator<Item = usize> {
 }
 
 /// h = depth + bed on a padded row.
-fn surface(h: &mut [f64], d: &[f64], bed: Option<&[f64]>, at: usize) {
+fn surface<T: Real>(h: &mut [T], d: &[T], bed: Option<&[T]>, at: usize) {
     let n = d.len();
     let h = &mut h[..n];
     match bed {
         Some(bed) => {
             let bed = &bed[at..at + n];
             for i in 0..n {
-                h[i] = d[i] + bed[i];
+                h[i] = T::down(d[i].up() + bed[i].up());
             }
         }
         None => h.copy_from_slice(d),
@@ -1145,14 +1479,14 @@ fn surface(h: &mut [f64], d: &[f64], bed: Option<&[f64]>, at: usize) {
 /// other end in row j (x: h1 = h0) or row j + 1).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn grad(
-    qn: &mut [f64],
-    q: &[f64],
-    h0: &[f64],
-    h1: &[f64],
+fn grad<T: Real>(
+    qn: &mut [T],
+    q: &[T],
+    h0: &[T],
+    h1: &[T],
     off: isize,
-    damp: f64,
-    c: f64,
+    damp: T::Calc,
+    c: T::Calc,
     a: usize,
     b: usize,
 ) {
@@ -1163,14 +1497,14 @@ fn grad(
     let o = (a as isize + off) as usize;
     let (qn, q, h0, h1) = (&mut qn[a..b], &q[a..b], &h0[a..b], &h1[o..o + n]);
     for i in 0..n {
-        qn[i] = damp * q[i] + c * (h0[i] - h1[i]);
+        qn[i] = T::down(damp * q[i].up() + c * (h0[i].up() - h1[i].up()));
     }
 }
 
 /// qn[p] += c·(p0[p] − p1[p + off]) for p in [a, b): the pressure term, same pipes as [`grad`].
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn add_grad(qn: &mut [f64], p0: &[f64], p1: &[f64], off: isize, c: f64, a: usize, b: usize) {
+fn add_grad<T: Real>(qn: &mut [T], p0: &[T], p1: &[T], off: isize, c: T::Calc, a: usize, b: usize) {
     if a >= b {
         return;
     }
@@ -1178,38 +1512,38 @@ fn add_grad(qn: &mut [f64], p0: &[f64], p1: &[f64], off: isize, c: f64, a: usize
     let o = (a as isize + off) as usize;
     let (qn, p0, p1) = (&mut qn[a..b], &p0[a..b], &p1[o..o + n]);
     for i in 0..n {
-        qn[i] += c * (p0[i] - p1[i]);
+        qn[i] = T::down(qn[i].up() + c * (p0[i].up() - p1[i].up()));
     }
 }
 
 /// max(x, 0) as a plain compare (vectorises to one max).
 #[inline(always)]
-fn pos(x: f64) -> f64 {
-    if x > 0.0 {
+fn pos<C: Num>(x: C) -> C {
+    if x > C::ZERO {
         x
     } else {
-        0.0
+        C::ZERO
     }
 }
 
 /// min(x, 0) as a plain compare.
 #[inline(always)]
-fn neg(x: f64) -> f64 {
-    if x < 0.0 {
+fn neg<C: Num>(x: C) -> C {
+    if x < C::ZERO {
         x
     } else {
-        0.0
+        C::ZERO
     }
 }
 
 /// K = min(1, cap/out), cap = max(depth, 0): never NaN (out > cap ≥ 0 before dividing).
 #[inline(always)]
-fn kfactor(depth: f64, out: f64) -> f64 {
+fn kfactor<C: Num>(depth: C, out: C) -> C {
     let cap = pos(depth);
     if out > cap {
         cap / out
     } else {
-        1.0
+        C::ONE
     }
 }
 
@@ -1217,13 +1551,13 @@ fn kfactor(depth: f64, out: f64) -> f64 {
 /// flows of row j (`own`) and row j − 1 (`before`; zeros before the grid). Outflows are summed in pairs
 /// of opposite pipes, so mirror images round alike.
 #[allow(clippy::too_many_arguments)]
-fn limiter<const DIAG: bool>(
-    k: &mut [f64],
-    d: &[f64],
-    own: &[f64],
-    before: &[f64],
+fn limiter<T: Real, const DIAG: bool>(
+    k: &mut [T],
+    d: &[T],
+    own: &[T],
+    before: &[T],
     w: usize,
-    beta: f64,
+    beta: T::Calc,
     a: usize,
     b: usize,
 ) {
@@ -1233,6 +1567,8 @@ fn limiter<const DIAG: bool>(
     let x_left = &own[a - 1..b - 1];
     let y_own = &own[w + a..w + b];
     let y_below = &before[w + a..w + b];
+    // Outflow of a column through the pipe pair (own, other end's): max(q, 0) + max(−q′, 0).
+    let out = |q: T, q_in: T| pos(q.up()) + pos(-q_in.up());
     if DIAG {
         let d_own = &own[2 * w + a..2 * w + b];
         let a_own = &own[3 * w + a..3 * w + b];
@@ -1240,17 +1576,17 @@ fn limiter<const DIAG: bool>(
         let d_below = &before[2 * w + a - 1..2 * w + b - 1];
         let a_below = &before[3 * w + a + 1..3 * w + b + 1];
         for i in 0..n {
-            let ox = pos(x_own[i]) + pos(-x_left[i]);
-            let oy = pos(y_own[i]) + pos(-y_below[i]);
-            let od = pos(d_own[i]) + pos(-d_below[i]);
-            let oa = pos(a_own[i]) + pos(-a_below[i]);
-            k[i] = kfactor(d[i], beta * ((ox + oy) + (od + oa)));
+            let ox = out(x_own[i], x_left[i]);
+            let oy = out(y_own[i], y_below[i]);
+            let od = out(d_own[i], d_below[i]);
+            let oa = out(a_own[i], a_below[i]);
+            k[i] = T::down(kfactor(d[i].up(), beta * ((ox + oy) + (od + oa))));
         }
     } else {
         for i in 0..n {
-            let ox = pos(x_own[i]) + pos(-x_left[i]);
-            let oy = pos(y_own[i]) + pos(-y_below[i]);
-            k[i] = kfactor(d[i], beta * (ox + oy));
+            let ox = out(x_own[i], x_left[i]);
+            let oy = out(y_own[i], y_below[i]);
+            k[i] = T::down(kfactor(d[i].up(), beta * (ox + oy)));
         }
     }
 }
@@ -1259,51 +1595,53 @@ fn limiter<const DIAG: bool>(
 /// (`k_own`, row j) for a positive flow, the other end's (`k_own` at p + 1, or `k_up`, row j + 1) for a
 /// negative one: max(q, 0)·K_owner + min(q, 0)·K_other, where one term is an exact zero, so this is
 /// exactly q·K_upwind without a branch.
-fn finalize<const DIAG: bool>(
-    qf: &mut [f64],
-    qn: &[f64],
-    k_own: &[f64],
-    k_up: &[f64],
+fn finalize<T: Real, const DIAG: bool>(
+    qf: &mut [T],
+    qn: &[T],
+    k_own: &[T],
+    k_up: &[T],
     w: usize,
     a: usize,
     b: usize,
 ) {
     let n = b - a;
-    let kd = &k_own[a..b];
-    let scale = |f: &mut [f64], q: &[f64], ku: &[f64]| {
-        let (f, q, ku) = (&mut f[..n], &q[..n], &ku[..n]);
-        for i in 0..n {
-            f[i] = pos(q[i]) * kd[i] + neg(q[i]) * ku[i];
-        }
+    let scale = |q: T, k_owner: T, k_other: T| {
+        let q = q.up();
+        T::down(pos(q) * k_owner.up() + neg(q) * k_other.up())
     };
+    let (kd, kr, ku) = (&k_own[a..b], &k_own[a + 1..b + 1], &k_up[a..b]);
+    let (qx, qy) = (&qn[a..b], &qn[w + a..w + b]);
     let (fx, rest) = qf.split_at_mut(w);
     let (fy, rest) = rest.split_at_mut(w);
-    scale(&mut fx[a..b], &qn[a..b], &k_own[a + 1..b + 1]);
-    scale(&mut fy[a..b], &qn[w + a..w + b], &k_up[a..b]);
+    let (fx, fy) = (&mut fx[a..b], &mut fy[a..b]);
     if DIAG {
         let (fd, fa) = rest.split_at_mut(w);
-        scale(
-            &mut fd[a..b],
-            &qn[2 * w + a..2 * w + b],
-            &k_up[a + 1..b + 1],
-        );
-        scale(
-            &mut fa[a..b],
-            &qn[3 * w + a..3 * w + b],
-            &k_up[a - 1..b - 1],
-        );
+        let (fd, fa) = (&mut fd[a..b], &mut fa[a..b]);
+        let (qd, qa) = (&qn[2 * w + a..2 * w + b], &qn[3 * w + a..3 * w + b]);
+        let (kur, kul) = (&k_up[a + 1..b + 1], &k_up[a - 1..b - 1]);
+        for i in 0..n {
+            fx[i] = scale(qx[i], kd[i], kr[i]);
+            fy[i] = scale(qy[i], kd[i], ku[i]);
+            fd[i] = scale(qd[i], kd[i], kur[i]);
+            fa[i] = scale(qa[i], kd[i], kul[i]);
+        }
+    } else {
+        for i in 0..n {
+            fx[i] = scale(qx[i], kd[i], kr[i]);
+            fy[i] = scale(qy[i], kd[i], ku[i]);
+        }
     }
 }
 
 /// D(j) on padded columns [a, b): depth + β·Σ(inflow − outflow) from the limited flows of row j
 /// (`own`) and row j − 1 (`before`), pipes in opposite pairs; then the paper's eq. 41 clamp if asked.
 #[allow(clippy::too_many_arguments)]
-fn depth<const DIAG: bool>(
-    d: &mut [f64],
-    own: &[f64],
-    before: &[f64],
+fn depth<T: Real, const DIAG: bool>(
+    d: &mut [T],
+    own: &[T],
+    before: &[T],
     w: usize,
-    beta: f64,
+    beta: T::Calc,
     clamp: bool,
     a: usize,
     b: usize,
@@ -1314,28 +1652,29 @@ fn depth<const DIAG: bool>(
     let x_left = &own[a - 1..b - 1];
     let y_own = &own[w + a..w + b];
     let y_below = &before[w + a..w + b];
+    let net = |q_in: T, q_out: T| q_in.up() - q_out.up();
     if DIAG {
         let d_own = &own[2 * w + a..2 * w + b];
         let a_own = &own[3 * w + a..3 * w + b];
         let d_below = &before[2 * w + a - 1..2 * w + b - 1];
         let a_below = &before[3 * w + a + 1..3 * w + b + 1];
         for i in 0..n {
-            let sx = x_left[i] - x_own[i];
-            let sy = y_below[i] - y_own[i];
-            let sd = d_below[i] - d_own[i];
-            let sa = a_below[i] - a_own[i];
-            d[i] += beta * ((sx + sy) + (sd + sa));
+            let sx = net(x_left[i], x_own[i]);
+            let sy = net(y_below[i], y_own[i]);
+            let sd = net(d_below[i], d_own[i]);
+            let sa = net(a_below[i], a_own[i]);
+            d[i] = T::down(d[i].up() + beta * ((sx + sy) + (sd + sa)));
         }
     } else {
         for i in 0..n {
-            let sx = x_left[i] - x_own[i];
-            let sy = y_below[i] - y_own[i];
-            d[i] += beta * (sx + sy);
+            let sx = net(x_left[i], x_own[i]);
+            let sy = net(y_below[i], y_own[i]);
+            d[i] = T::down(d[i].up() + beta * (sx + sy));
         }
     }
     if clamp {
         for v in d.iter_mut() {
-            *v = pos(*v);
+            *v = T::down(pos(v.up()));
         }
     }
 }
@@ -1344,19 +1683,27 @@ fn depth<const DIAG: bool>(
 mod tests {
     use super::*;
 
+    const BOTH: [Precision; 2] = [Precision::F64, Precision::F32];
+
     fn grid(nx: usize, ny: usize, diag: bool, limiter: Limiter) -> WaterGrid {
+        grid_in(nx, ny, diag, limiter, Precision::F64)
+    }
+
+    fn grid_in(nx: usize, ny: usize, diag: bool, limiter: Limiter, p: Precision) -> WaterGrid {
         let cfg = WaterConfig {
             diagonal_pipes: diag,
             limiter,
             damping: 0.2,
+            precision: p,
             ..WaterConfig::unit(nx, ny)
         }
         .with_courant(0.6);
         WaterGrid::with_config(cfg).unwrap()
     }
 
+    /// The whole stored state (pads included), as bit patterns.
     fn bits(w: &WaterGrid) -> Vec<u64> {
-        w.cur.iter().map(|v| v.to_bits()).collect()
+        each!(&w.state, f => f.cur.iter().map(|v| v.bits()).collect())
     }
 
     /// A scene that uses every path: bed and dry cells, pressure, a violent drop (K active).
@@ -1390,19 +1737,19 @@ mod tests {
     /// The segmented row pipeline gives the same bits for any segment length.
     #[test]
     fn any_segment_length_gives_the_same_result() {
-        for diag in [false, true] {
+        for (diag, p) in [false, true].into_iter().flat_map(|d| BOTH.map(|p| (d, p))) {
             for limiter in [Limiter::MassConserving, Limiter::PaperClamp] {
-                let mut reference = grid(23, 9, diag, limiter);
+                let mut reference = grid_in(23, 9, diag, limiter, p);
                 scene(&mut reference, 60);
                 for seg in [1, 2, 3, 7, 22, 23] {
-                    let mut w = grid(23, 9, diag, limiter);
+                    let mut w = grid_in(23, 9, diag, limiter, p);
                     w.co.seg = seg;
                     w.set_chunk_rows(Some(3));
                     scene(&mut w, 60);
                     assert_eq!(
                         bits(&w),
                         bits(&reference),
-                        "diag {diag} {limiter:?} seg {seg}"
+                        "diag {diag} {limiter:?} {p:?} seg {seg}"
                     );
                 }
             }
@@ -1413,20 +1760,20 @@ mod tests {
     /// recomputes its halo from copies of the old neighbouring rows).
     #[test]
     fn any_chunking_gives_the_serial_result() {
-        for diag in [false, true] {
+        for (diag, p) in [false, true].into_iter().flat_map(|d| BOTH.map(|p| (d, p))) {
             for limiter in [Limiter::MassConserving, Limiter::PaperClamp] {
                 for (nx, ny) in [(9, 11), (1, 7), (6, 2)] {
-                    let mut serial = grid(nx, ny, diag, limiter);
+                    let mut serial = grid_in(nx, ny, diag, limiter, p);
                     serial.set_chunk_rows(Some(usize::MAX));
                     scene(&mut serial, 60);
                     for rows in [2, 3, 4, 5] {
-                        let mut w = grid(nx, ny, diag, limiter);
+                        let mut w = grid_in(nx, ny, diag, limiter, p);
                         w.set_chunk_rows(Some(rows));
                         scene(&mut w, 60);
                         assert_eq!(
                             bits(&w),
                             bits(&serial),
-                            "diag {diag} {limiter:?} {nx}×{ny} rows {rows}"
+                            "diag {diag} {limiter:?} {p:?} {nx}×{ny} rows {rows}"
                         );
                     }
                 }
@@ -1434,16 +1781,38 @@ mod tests {
         }
     }
 
-    /// The scene is not trivial: the water moved and the limiter dried a column.
+    /// The scene is not trivial: the water moved and the limiter dried a column. Volume is kept to
+    /// the rounding of the stored depths: ~ulp·√(steps) relative (1e-13 in f64, 1e-6 in f32).
     #[test]
     fn scene_exercises_the_limiter() {
-        let mut w = grid(9, 11, true, Limiter::MassConserving);
-        setup(&mut w);
-        let v0 = w.volume();
-        run(&mut w, 60);
-        assert!(w.max_abs_eta() > 0.1);
-        assert!(((w.volume() - v0) / v0).abs() < 1e-13);
-        assert!(w.min_depth() < 1e-9);
+        for (p, tol, dry) in [(Precision::F64, 1e-13, 1e-9), (Precision::F32, 1e-6, 1e-6)] {
+            let mut w = grid_in(9, 11, true, Limiter::MassConserving, p);
+            setup(&mut w);
+            let v0 = w.volume();
+            run(&mut w, 60);
+            assert!(w.max_abs_eta() > 0.1);
+            let dv = ((w.volume() - v0) / v0).abs();
+            assert!(dv < tol, "{p:?}: ΔV/V {dv}");
+            assert!(w.min_depth() < dry);
+        }
+    }
+
+    /// f32 storage reports its own traffic; readings are f64 either way.
+    #[test]
+    fn bytes_per_column_follow_precision_and_pipes() {
+        for (diag, p, bytes) in [
+            (false, Precision::F32, 24),
+            (true, Precision::F32, 40),
+            (false, Precision::F64, 48),
+            (true, Precision::F64, 80),
+        ] {
+            let w = grid_in(4, 4, diag, Limiter::MassConserving, p);
+            assert_eq!(w.bytes_per_column_step(), bytes);
+            assert_eq!(w.precision(), p);
+        }
+        let mut w = grid_in(4, 4, false, Limiter::MassConserving, Precision::F32);
+        w.set_depth(1, 1, 0.1);
+        assert_eq!(w.depth(1, 1), f64::from(0.1f32));
     }
 
     #[test]
@@ -1472,10 +1841,11 @@ mod tests {
             (1.0, 0.0),
             (1.0, 4.0),
         ] {
-            let k = kfactor(d, o);
+            let k: f64 = kfactor(d, o);
             assert!(k.is_finite() && (0.0..=1.0).contains(&k), "{d} {o} {k}");
         }
-        assert_eq!(kfactor(1.0, 4.0), 0.25);
+        assert_eq!(kfactor(1.0f64, 4.0), 0.25);
+        assert_eq!(kfactor(0.0f32, 0.0), 1.0);
     }
 
     /// Sampling at a column centre gives that column's η; between centres it is linear.
@@ -1528,5 +1898,130 @@ mod tests {
             assert!((w.eta(ix, 3) - e).abs() < 1e-15);
         }
         assert!(w.flow(5, 3, 0) != 0.0 && w.flow(5, 3, 1) == 0.0);
+    }
+
+    // --- the box footprint ---------------------------------------------------------------------
+
+    /// The deposited impulse of every column, row-major.
+    fn pending_field(w: &WaterGrid) -> Vec<f64> {
+        if w.pending.is_empty() {
+            vec![0.0; w.nx() * w.ny()]
+        } else {
+            w.pending.clone()
+        }
+    }
+
+    fn box_grid(n: usize, cell: f64, origin: [f64; 2]) -> WaterGrid {
+        WaterGrid::with_config(WaterConfig {
+            cell,
+            origin,
+            ..WaterConfig::unit(n, n)
+        })
+        .unwrap()
+    }
+
+    /// The parts sum to the impulse (to rounding), inside, across an edge and in a corner.
+    #[test]
+    fn box_deposit_keeps_the_impulse() {
+        for (x, y, half) in [
+            (3.37, 4.81, 0.9),
+            (0.2, 4.0, 1.3),
+            (7.9, 0.1, 2.2),
+            (5.0, 5.0, 40.0),
+            (1.23, 6.54, 0.3),
+        ] {
+            let mut w = box_grid(8, 1.0, [0.0, 0.0]);
+            w.deposit_impulse_box(x, y, half, 7.5);
+            let sum: f64 = pending_field(&w).iter().sum();
+            assert!((sum / 7.5 - 1.0).abs() < 1e-14, "({x}, {y}, {half}): {sum}");
+            assert!(pending_field(&w).iter().all(|&p| p >= 0.0));
+        }
+    }
+
+    /// A square that is exactly one cell gives that cell everything; one covering four cells' quarters
+    /// gives each a quarter; a point-sized square falls back to the bilinear deposit.
+    #[test]
+    fn box_deposit_on_cells() {
+        let mut w = box_grid(6, 0.5, [-1.0, 2.0]);
+        w.deposit_impulse_box(-1.0 + 2.25, 2.0 + 1.75, 0.25, 3.0);
+        let p = pending_field(&w);
+        assert_eq!(p[3 * 6 + 4], 3.0);
+        assert_eq!(p.iter().filter(|&&v| v != 0.0).count(), 1);
+
+        let mut w = box_grid(6, 0.5, [-1.0, 2.0]);
+        w.deposit_impulse_box(-1.0 + 1.0, 2.0 + 1.5, 0.25, 2.0);
+        let p = pending_field(&w);
+        for (ix, iy) in [(1, 2), (2, 2), (1, 3), (2, 3)] {
+            assert_eq!(p[iy * 6 + ix], 0.5, "({ix}, {iy})");
+        }
+        assert_eq!(p.iter().filter(|&&v| v != 0.0).count(), 4);
+
+        for half in [0.0, -1.0, 1e-9] {
+            let mut a = box_grid(6, 0.5, [-1.0, 2.0]);
+            let mut b = box_grid(6, 0.5, [-1.0, 2.0]);
+            a.deposit_impulse_box(0.13, 3.31, half, 2.0);
+            b.deposit_impulse(0.13, 3.31, 2.0);
+            assert_eq!(pending_field(&a), pending_field(&b), "half {half}");
+        }
+        // Outside the grid or not finite: nothing.
+        let mut w = box_grid(6, 0.5, [-1.0, 2.0]);
+        w.deposit_impulse_box(-1.01, 3.0, 0.5, 1.0);
+        w.deposit_impulse_box(0.0, 3.0, f64::NAN, 1.0);
+        w.deposit_impulse_box(0.0, 3.0, f64::INFINITY, 1.0);
+        w.deposit_impulse_box(0.0, f64::NAN, 0.5, 1.0);
+        w.deposit_impulse_box(0.0, 3.0, 0.5, f64::INFINITY);
+        assert_eq!(w.pending_impulse(), 0.0);
+    }
+
+    /// A square centred on a symmetric grid gives a deposit with the square's 8 symmetries.
+    #[test]
+    fn box_deposit_is_symmetric() {
+        let n = 9;
+        let mut w = box_grid(n, 0.1, [0.0, 0.0]);
+        w.deposit_impulse_box(0.45, 0.45, 0.27, 1.0);
+        let p = pending_field(&w);
+        let at = |ix: usize, iy: usize| p[iy * n + ix];
+        for iy in 0..n {
+            for ix in 0..n {
+                let v = at(ix, iy);
+                for m in [
+                    at(iy, ix),
+                    at(n - 1 - ix, iy),
+                    at(ix, n - 1 - iy),
+                    at(n - 1 - iy, n - 1 - ix),
+                ] {
+                    assert!((v - m).abs() <= 1e-15, "({ix}, {iy}): {v} vs {m}");
+                }
+            }
+        }
+        // Cells inside the square take the impulse × their share of its area, l²/(2·half)².
+        assert!((at(4, 4) - 0.01 / (0.54 * 0.54)).abs() < 1e-14);
+    }
+
+    /// Convergence: once the cells are smaller than the square, halving them does not change the
+    /// pressure footprint: the four fine columns of each coarse column take exactly its impulse (the
+    /// overlap areas add up), also where the square crosses the edge.
+    #[test]
+    fn box_footprint_does_not_change_when_the_cell_is_halved() {
+        for (x, y, half) in [(0.937, 1.012, 0.31), (0.05, 1.71, 0.26), (1.0, 1.0, 0.2)] {
+            let mut coarse = box_grid(20, 0.1, [0.0, 0.0]);
+            let mut fine = box_grid(40, 0.05, [0.0, 0.0]);
+            coarse.deposit_impulse_box(x, y, half, 1.0);
+            fine.deposit_impulse_box(x, y, half, 1.0);
+            let (c, f) = (pending_field(&coarse), pending_field(&fine));
+            for iy in 0..20 {
+                for ix in 0..20 {
+                    let sum: f64 = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                        .iter()
+                        .map(|&(dx, dy)| f[(2 * iy + dy) * 40 + 2 * ix + dx])
+                        .sum();
+                    let want = c[iy * 20 + ix];
+                    assert!(
+                        (sum - want).abs() < 1e-14,
+                        "({x}, {y}) cell ({ix}, {iy}): fine {sum} coarse {want}"
+                    );
+                }
+            }
+        }
     }
 }

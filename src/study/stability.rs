@@ -350,6 +350,8 @@ pub fn shallow_lake_drift(
     b.water.size = [8.0, 3.0];
     b.water.origin = Some([-1.0, -1.5]);
     b.water.limiter = limiter;
+    // f64 storage: the limiters' own drift, not the rounding of f32 depths (~1e-7).
+    b.water.precision = crate::sim::params::Precision::F64;
     let p = throws::preset(&FAST, &b)?;
     let mut sim = Simulation::new(&p)?;
     let v0 = sim.water().map_or(1.0, |w| w.volume());
