@@ -225,6 +225,26 @@ mod tests {
         assert!(e.contains("expected a positive number"), "{e}");
     }
 
+    /// The new physics and water choices parse, round-trip, and a centre outside the wetted length is
+    /// named with its line and field.
+    #[test]
+    fn pressure_centre_and_precision_parse_and_validate() {
+        let text = "(\n  physics: (rotation: Free, pressure_centre: Planing(0.75)),\n  water: (precision: F64),\n)";
+        let p = parse(text, Path::new("ok.ron")).unwrap();
+        assert_eq!(
+            p.physics.pressure_centre,
+            crate::sim::params::PressureCentre::Planing(0.75)
+        );
+        assert_eq!(p.water.precision, crate::sim::params::Precision::F64);
+        let back = parse(&to_ron_string(&p).unwrap(), Path::new("rt.ron")).unwrap();
+        assert_eq!(back, p);
+        let bad = "(\n  physics: (\n    pressure_centre: Planing(1.5),\n  ),\n)";
+        let e = parse(bad, Path::new("bad.ron")).unwrap_err().to_string();
+        assert!(e.starts_with("bad.ron:"), "{e}");
+        assert!(e.contains("physics.pressure_centre"), "{e}");
+        assert!(e.contains("[0, 1]"), "{e}");
+    }
+
     #[test]
     fn save_is_atomic_and_round_trips() {
         let dir = tempfile::tempdir().unwrap();

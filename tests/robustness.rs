@@ -6,7 +6,8 @@
 
 use proptest::prelude::*;
 use stoneskip::sim::params::{
-    Attitude, ForceLaw, Integrator, Limiter, Preset, Rotation, Shape, StoneParams,
+    Attitude, ForceLaw, Integrator, Limiter, Precision, Preset, PressureCentre, Rotation, Shape,
+    StoneParams,
 };
 use stoneskip::sim::{Simulation, Summary};
 
@@ -74,7 +75,13 @@ fn preset() -> impl Strategy<Value = Preset> {
         ),
         (0usize..3, 0usize..4, any::<bool>(), any::<bool>()),
         (1e-4..5e-3f64, 0.0..3.0f64, 0.0..0.05f64),
-        (any::<bool>(), any::<bool>(), any::<bool>()),
+        (
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+            any::<bool>(),
+            prop::option::of(0.0..=1.0f64),
+        ),
     )
         .prop_map(
             |(
@@ -83,7 +90,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                 (tilt, bank, heading, spin),
                 (law, integ, vent, free),
                 (dt, cl, cf),
-                (water, wavy, paper_clamp),
+                (water, wavy, paper_clamp, f64_water, planing),
             )| {
                 let mut p = Preset::default();
                 p.stone = StoneParams {
@@ -126,6 +133,13 @@ fn preset() -> impl Strategy<Value = Preset> {
                 } else {
                     Limiter::MassConserving
                 };
+                p.water.precision = if f64_water {
+                    Precision::F64
+                } else {
+                    Precision::F32
+                };
+                p.physics.pressure_centre =
+                    planing.map_or(PressureCentre::Faces, PressureCentre::Planing);
                 p
             },
         )
