@@ -28,7 +28,7 @@ use crate::render::{
     Camera, RendererConfig, Scene, SceneRenderer, SceneStyle, Trail, Viewport, WaterHeights,
 };
 use crate::report::CsvWriter;
-use crate::sim::params::{Physics, Preset};
+use crate::sim::params::{Physics, Preset, Rotation};
 use crate::sim::{Simulation, StepSample};
 use crate::ui::{
     self, Action, FrameTiming, Message, Phase, PlotSeries, PresetLibrary, Readouts, SimControls,
@@ -978,6 +978,20 @@ impl Model {
             .show(ui, |ui| {
                 if ui::launch_ui(ui, &mut self.edit.launch) {
                     actions.push(Action::SceneEdited);
+                }
+                if self.edit.physics.rotation == Rotation::Locked {
+                    // A spin slider that silently does nothing would mislead: say so, offer the fix.
+                    ui.horizontal_wrapped(|ui| {
+                        ui.weak("Spin has no effect while the attitude is Locked (the paper's high-spin limit).");
+                        if ui
+                            .small_button("Free rotation")
+                            .on_hover_text("Physics ▸ Rotation: Free — torque, spin and gyroscope")
+                            .clicked()
+                        {
+                            self.edit.physics.rotation = Rotation::Free;
+                            actions.push(Action::PhysicsEdited);
+                        }
+                    });
                 }
             });
         egui::CollapsingHeader::new(head("Stone"))
