@@ -592,6 +592,8 @@ pub struct WaterGrid {
     /// Impulses (N·s, down) deposited since the last step; empty until the first deposit.
     pending: Vec<f64>,
     touched: Vec<usize>,
+    /// Every impulse (N·s, down) a column has accepted since the grid was built.
+    received: f64,
     /// Rows holding external pressure during the current step.
     row_press: Vec<bool>,
     chunk_rows: Option<usize>,
@@ -685,6 +687,7 @@ impl WaterGrid {
             state,
             row_bed: vec![false; cfg.ny],
             pending: Vec::new(),
+            received: 0.0,
             touched: Vec::new(),
             row_press: vec![false; cfg.ny],
             chunk_rows: None,
@@ -872,6 +875,13 @@ impl WaterGrid {
             self.touched.push(i);
         }
         self.pending[i] += impulse;
+        self.received += impulse;
+    }
+
+    /// Every impulse (N·s, down) the columns have accepted since the grid was built: with the stone's
+    /// coupling, the water's side of Newton's third law.
+    pub fn impulse_received(&self) -> f64 {
+        self.received
     }
 
     /// Impulse (N·s) gathered for the next step, all columns together.
