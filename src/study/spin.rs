@@ -578,6 +578,15 @@ fn write(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), StudyE
     )
 }
 
+/// Steps between neighbouring free-rotation spins where more spin gave less of `value`.
+fn drops(counts: &[CountPoint], value: impl Fn(&CountPoint) -> f64) -> usize {
+    counts
+        .windows(2)
+        .filter(|w| w[0].rev_s.is_some() && w[1].rev_s.is_some())
+        .filter(|w| value(&w[1]) < value(&w[0]))
+        .count()
+}
+
 fn report(g: &SpinGrid, results: &[CentreResult]) -> String {
     let mut s = String::from("## Spin axis: the stone as a free rigid body\n\n");
     s.push_str(&format!(
@@ -642,24 +651,9 @@ fn report(g: &SpinGrid, results: &[CentreResult]) -> String {
             (Some(a), Some(b)) => format!("{}–{} rev/s", sig(a.0, 3), sig(b.0, 3)),
             _ => "–".into(),
         };
-        let mono = r
-            .counts
-            .windows(2)
-            .filter(|w| w[0].rev_s.is_some() && w[1].rev_s.is_some())
-            .filter(|w| w[1].skips < w[0].skips)
-            .count();
-        let mono_r = r
-            .counts
-            .windows(2)
-            .filter(|w| w[0].rev_s.is_some() && w[1].rev_s.is_some())
-            .filter(|w| w[1].rebounds < w[0].rebounds)
-            .count();
-        let mono_d = r
-            .counts
-            .windows(2)
-            .filter(|w| w[0].rev_s.is_some() && w[1].rev_s.is_some())
-            .filter(|w| w[1].distance < w[0].distance)
-            .count();
+        let mono = drops(&r.counts, |p| p.skips as f64);
+        let mono_r = drops(&r.counts, |p| p.rebounds as f64);
+        let mono_d = drops(&r.counts, |p| p.distance);
         rows.push(vec![
             centre_name(r.centre),
             locked.to_string(),
