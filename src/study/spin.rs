@@ -525,27 +525,15 @@ fn write(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), StudyE
     .legend(Legend::UpperLeft);
     let spins = &g.curve_spins;
     for (r, c) in results.iter().zip([colors::BLUE, colors::RED]) {
-        let pts: Vec<(f64, f64)> = r
-            .counts
-            .iter()
-            .filter_map(|p| Some((p.rev_s?, p.skips as f64)))
-            .filter(|p| p.1 > 0.0)
-            .collect();
         chart = chart.series(Series::new(
             format!("skips, free rotation, {}", centre_name(r.centre)),
-            pts,
+            log_curve(&r.counts, |p| p.skips as f64),
             c,
             Mark::LinePoints,
         ));
-        let reb: Vec<(f64, f64)> = r
-            .counts
-            .iter()
-            .filter_map(|p| Some((p.rev_s?, p.rebounds as f64)))
-            .filter(|p| p.1 > 0.0)
-            .collect();
         chart = chart.series(Series::new(
             format!("rebounds, {}", centre_key(r.centre)),
-            reb,
+            log_curve(&r.counts, |p| p.rebounds as f64),
             c,
             Mark::Dashed,
         ));
@@ -576,6 +564,15 @@ fn write(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), StudyE
         None,
         &[Panel::Chart(chart)],
     )
+}
+
+/// (spin, value) of the free-rotation runs whose value can stand on a log axis (> 0).
+fn log_curve(counts: &[CountPoint], value: impl Fn(&CountPoint) -> f64) -> Vec<(f64, f64)> {
+    counts
+        .iter()
+        .filter_map(|p| Some((p.rev_s?, value(p))))
+        .filter(|p| p.1 > 0.0)
+        .collect()
 }
 
 /// Steps between neighbouring free-rotation spins where more spin gave less of `value`.
