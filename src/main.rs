@@ -61,7 +61,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         time: f64,
     },
-    /// Runs a study (accuracy, stability, phase, defaults; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
+    /// Runs a study (accuracy, stability, phase, defaults, fidelity; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
     Study {
         name: String,
         #[arg(long)]

@@ -10,6 +10,7 @@
 pub mod contact;
 pub mod hydro;
 pub mod integrate;
+pub mod metrics;
 pub mod params;
 pub mod reference;
 pub mod scenario;

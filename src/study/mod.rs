@@ -11,6 +11,7 @@
 
 pub mod accuracy;
 pub mod defaults;
+pub mod fidelity;
 pub mod phase;
 pub mod plot;
 pub mod spin;
@@ -28,12 +29,14 @@ use crate::sim::reference::ReferenceError;
 use crate::sim::SimError;
 
 /// The studies `run_study` knows, in the order `all` runs them.
-pub const STUDIES: [&str; 4] = ["accuracy", "stability", "phase", "defaults"];
+pub const STUDIES: [&str; 5] = ["accuracy", "stability", "phase", "defaults", "fidelity"];
 
 /// Errors of the studies.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
-    #[error("unknown study `{0}`; valid names: accuracy, stability, phase, defaults, spin, all")]
+    #[error(
+        "unknown study `{0}`; valid names: accuracy, stability, phase, defaults, fidelity, spin, all"
+    )]
     Unknown(String),
     #[error(transparent)]
     Sim(#[from] SimError),
@@ -172,6 +175,7 @@ fn run_one(name: &str, out: &Path, quick: bool) -> Result<f64, StudyError> {
         "stability" => stability::run(&Ctx::new("stability", out, quick)?)?,
         "phase" => phase::run(&Ctx::new("phase", out, quick)?)?,
         "defaults" => defaults::run(&Ctx::new("defaults", out, quick)?)?,
+        "fidelity" => fidelity::run(&Ctx::new("fidelity", out, quick)?)?,
         // The phase study's spin axis alone (`phase` runs it too).
         "spin" => {
             let ctx = Ctx::new("spin", out, quick)?;
@@ -224,7 +228,8 @@ mod tests {
         let dir = std::env::temp_dir().join("stoneskip-unknown-study");
         let e = run_study("nope", &dir, true).unwrap_err().to_string();
         assert!(
-            e.contains("nope") && e.contains("accuracy, stability, phase, defaults, spin, all"),
+            e.contains("nope")
+                && e.contains("accuracy, stability, phase, defaults, fidelity, spin, all"),
             "{e}"
         );
     }
