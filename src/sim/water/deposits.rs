@@ -1,6 +1,15 @@
 //! The stone's coupling into the water (Newton's third law, design.md §5): impulses deposited on
-//! columns, bilinearly or over a square footprint, which act as an external pressure during the next
-//! water step.
+//! columns, bilinearly or over a square footprint. The vertical impulse acts as an external pressure
+//! during the next water step; the horizontal impulse goes into the momentum of the pipes.
+//!
+//! **Horizontal momentum.** In the column-and-pipe model the water's horizontal momentum lives in the
+//! pipe flows: the water in a pipe of length L carries ρ·Q·L along the pipe (mass ρAL at speed Q/A),
+//! and the flow law is exactly Newton's second law for it, ΔQ·ρL = Δt·A·ΔP. A horizontal impulse J on
+//! a column is therefore given to the axis pipes that join it to its neighbours, ΔQ = J/(ρL) shared
+//! between the two pipes along J's axis (all to the one that exists at a wall; a one-column-wide grid
+//! has no pipe along that axis and cannot take it). Away from the walls the pressure and gravity terms
+//! of the flow law only move momentum between pipes (their sums telescope), so ρ Σ Q·L·e of the whole
+//! grid changes only by the impulses received, the damping and the limiter (tests/water.rs).
 
 use super::storage::each;
 use super::{WaterGrid, BOX_MIN_HALF};
@@ -83,6 +92,109 @@ impl WaterGrid {
         seen.sort_unstable();
         seen.dedup();
         seen.iter().map(|&i| self.pending[i]).sum()
+    }
+
+    /// Horizontal impulse `j` (N·s on the water along +x and +y) spread over the square footprint
+    /// [x − half, x + half] × [y − half, y + half] as [`Self::deposit_impulse_box`] spreads a vertical
+    /// one (bilinearly when `half` ≤ [`BOX_MIN_HALF`]·l). At the next water step each column's part
+    /// goes into the momentum of its axis pipes (see the module documentation). Ignored outside the
+    /// grid or if not finite.
+    pub fn deposit_momentum_box(&mut self, x: f64, y: f64, half: f64, j: [f64; 2]) {
+        if !(j[0].is_finite() && j[1].is_finite() && half.is_finite()) || !self.contains(x, y) {
+            return;
+        }
+        if j == [0.0, 0.0] {
+            return;
+        }
+        let l = self.cfg.cell;
+        if half <= BOX_MIN_HALF * l {
+            let [(i0, i1, tx), (j0, j1, ty)] = self.bilinear(x, y);
+            for (ix, iy, w) in [
+                (i0, j0, (1.0 - tx) * (1.0 - ty)),
+                (i1, j0, tx * (1.0 - ty)),
+                (i0, j1, (1.0 - tx) * ty),
+                (i1, j1, tx * ty),
+            ] {
+                self.deposit_momentum_cell(ix, iy, [j[0] * w, j[1] * w]);
+            }
+            return;
+        }
+        let [ox, oy] = self.cfg.origin;
+        let (i0, wx) = overlaps((x - ox) / l, half / l, self.cfg.nx);
+        let (j0, wy) = overlaps((y - oy) / l, half / l, self.cfg.ny);
+        for (jj, &fy) in wy.iter().enumerate() {
+            for (ii, &fx) in wx.iter().enumerate() {
+                let w = fy * fx;
+                self.deposit_momentum_cell(i0 + ii, j0 + jj, [j[0] * w, j[1] * w]);
+            }
+        }
+    }
+
+    /// Horizontal impulse (N·s along +x, +y) on one column; ignored outside the grid or if not
+    /// finite.
+    pub fn deposit_momentum_cell(&mut self, ix: usize, iy: usize, j: [f64; 2]) {
+        let (nx, ny) = (self.cfg.nx, self.cfg.ny);
+        if ix >= nx || iy >= ny || !(j[0].is_finite() && j[1].is_finite()) || j == [0.0, 0.0] {
+            return;
+        }
+        if self.pending_momentum.is_empty() {
+            self.pending_momentum = vec![[0.0; 2]; nx * ny];
+        }
+        let i = iy * nx + ix;
+        if self.pending_momentum[i] == [0.0; 2] {
+            self.touched_momentum.push(i);
+        }
+        self.pending_momentum[i][0] += j[0];
+        self.pending_momentum[i][1] += j[1];
+    }
+
+    /// Every horizontal impulse (N·s along +x, +y) the pipes have accepted since the grid was built.
+    pub fn momentum_received(&self) -> [f64; 2] {
+        self.momentum_received
+    }
+
+    /// Gives the pipes the horizontal impulses gathered since the last step: ΔQ = J/(ρL) on the axis
+    /// pipes of each column, divided by the step's damping factor so that the impulse itself is not
+    /// damped (it enters the flow law as a forcing term, as the pressure does).
+    pub(super) fn apply_pending_momentum(&mut self) {
+        if self.touched_momentum.is_empty() {
+            return;
+        }
+        let (nx, ny, l) = (self.cfg.nx, self.cfg.ny, self.cfg.cell);
+        let damp = if self.co.damp > 1e-12 {
+            self.co.damp
+        } else {
+            1.0
+        };
+        let scale = 1.0 / (self.cfg.density * l * damp);
+        let mut touched = std::mem::take(&mut self.touched_momentum);
+        for &i in &touched {
+            let j = std::mem::take(&mut self.pending_momentum[i]);
+            let (ix, iy) = (i % nx, i / nx);
+            // Field 1: the +x pipe a column owns, field 2: its +y pipe.
+            let along_x = [
+                (ix > 0).then(|| (ix - 1, iy)),
+                (ix + 1 < nx).then_some((ix, iy)),
+            ];
+            let along_y = [
+                (iy > 0).then(|| (ix, iy - 1)),
+                (iy + 1 < ny).then_some((ix, iy)),
+            ];
+            for (axis, pipes) in [(0, along_x), (1, along_y)] {
+                let n = pipes.iter().flatten().count();
+                if n == 0 || j[axis] == 0.0 {
+                    continue;
+                }
+                let dq = j[axis] * scale / n as f64;
+                for &(px, py) in pipes.iter().flatten() {
+                    let k = self.co.at(px, py, axis + 1);
+                    each!(&mut self.state, f => f.set(k, f.get(k) + dq));
+                }
+                self.momentum_received[axis] += j[axis];
+            }
+        }
+        touched.clear();
+        self.touched_momentum = touched;
     }
 
     pub(super) fn apply_pending_pressure(&mut self) {

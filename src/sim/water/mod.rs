@@ -67,7 +67,6 @@ mod tests;
 
 use crate::sim::params::{Limiter, ParamError, Precision, WaterParams, MAX_WATER_COLUMNS};
 
-use kernel::SEGMENT;
 use storage::{each, Coeffs, Fields, State};
 
 /// Fraction of the Courant limit at which the automatic water step runs: r = 0.7/√2 ≈ 0.495 with axis
@@ -218,11 +217,35 @@ pub struct WaterGrid {
     touched: Vec<usize>,
     /// Every impulse (N·s, down) a column has accepted since the grid was built.
     received: f64,
+    /// Horizontal impulses (N·s along +x, +y) deposited since the last step, per column; empty until
+    /// the first deposit.
+    pending_momentum: Vec<[f64; 2]>,
+    touched_momentum: Vec<usize>,
+    /// Every horizontal impulse (N·s) the pipes have accepted since the grid was built.
+    momentum_received: [f64; 2],
     /// Rows holding external pressure during the current step.
     row_press: Vec<bool>,
     chunk_rows: Option<usize>,
     steps: u64,
     clock: f64,
+    /// (time, steps) when the step last changed: time = t₀ + (steps − n₀)·Δt_w.
+    epoch: (f64, u64),
+}
+
+/// The water's step Δt_w for a configuration: the explicit one, or [`COURANT_SAFETY`] of the Courant
+/// limit, capped at [`MAX_STEP`].
+fn step_for(cfg: &WaterConfig) -> f64 {
+    let c = (cfg.gravity * cfg.depth).sqrt();
+    let limit = if cfg.diagonal_pipes {
+        COURANT_LIMIT_8
+    } else {
+        COURANT_LIMIT_4
+    };
+    match cfg.dt {
+        Some(dt) => dt,
+        None if c > 0.0 => (COURANT_SAFETY * limit * cfg.cell / c).min(MAX_STEP),
+        None => MAX_STEP,
+    }
 }
 
 impl WaterGrid {
@@ -267,39 +290,9 @@ impl WaterGrid {
     /// A grid from raw numbers (tests, studies): water at rest at depth H on a flat bed.
     pub fn with_config(cfg: WaterConfig) -> Result<Self, ParamError> {
         cfg.validate()?;
-        let c = (cfg.gravity * cfg.depth).sqrt();
-        let limit = if cfg.diagonal_pipes {
-            COURANT_LIMIT_8
-        } else {
-            COURANT_LIMIT_4
-        };
-        let dt = match cfg.dt {
-            Some(dt) => dt,
-            None if c > 0.0 => (COURANT_SAFETY * limit * cfg.cell / c).min(MAX_STEP),
-            None => MAX_STEP,
-        };
-        let (l, h, g, rho) = (cfg.cell, cfg.depth, cfg.gravity, cfg.density);
-        // Pipe areas and lengths (water.md §2–§3).
-        let (ax, ad) = if cfg.diagonal_pipes {
-            (2.0 / 3.0 * h * l, std::f64::consts::SQRT_2 / 6.0 * h * l)
-        } else {
-            (h * l, 0.0)
-        };
-        let (lx, ld) = (l, std::f64::consts::SQRT_2 * l);
-        let nf = if cfg.diagonal_pipes { 5 } else { 3 };
-        let co = Coeffs {
-            nx: cfg.nx,
-            ny: cfg.ny,
-            nf,
-            clamp: cfg.limiter == Limiter::PaperClamp,
-            damp: (-cfg.damping * dt).exp(),
-            gx: dt * g * ax / lx,
-            gd: dt * g * ad / ld,
-            px: dt * ax / (rho * lx),
-            pd: dt * ad / (rho * ld),
-            beta: dt / (l * l),
-            seg: SEGMENT,
-        };
+        let dt = step_for(&cfg);
+        let co = Coeffs::new(&cfg, dt);
+        let h = cfg.depth;
         let state = match cfg.precision {
             Precision::F32 => State::F32(Fields::new(&co, h)),
             Precision::F64 => State::F64(Fields::new(&co, h)),
@@ -313,11 +306,36 @@ impl WaterGrid {
             pending: Vec::new(),
             received: 0.0,
             touched: Vec::new(),
+            pending_momentum: Vec::new(),
+            touched_momentum: Vec::new(),
+            momentum_received: [0.0; 2],
             row_press: vec![false; cfg.ny],
             chunk_rows: None,
             steps: 0,
             clock: 0.0,
+            epoch: (0.0, 0),
         })
+    }
+
+    /// Changes gravity and the water's density live (the physics panel): the flow law's
+    /// coefficients follow, and so does the automatic step (the Courant number stays at
+    /// [`COURANT_SAFETY`] of the limit whatever g is; an explicit step is kept). The clock goes on
+    /// from the water's present time, whatever the new step. The state (depths, flows, bed) is kept.
+    pub fn set_constants(&mut self, gravity: f64, density: f64) -> Result<(), ParamError> {
+        let cfg = WaterConfig {
+            gravity,
+            density,
+            ..self.cfg
+        };
+        cfg.validate()?;
+        if cfg == self.cfg {
+            return Ok(());
+        }
+        self.epoch = (self.time(), self.steps);
+        self.cfg = cfg;
+        self.dt = step_for(&cfg);
+        self.co = Coeffs::new(&cfg, self.dt);
+        Ok(())
     }
 
     // --- geometry and clock -------------------------------------------------------------------
@@ -347,9 +365,11 @@ impl WaterGrid {
     pub fn step_dt(&self) -> f64 {
         self.dt
     }
-    /// Simulated time the water has reached (s): steps taken × Δt_w.
+    /// Simulated time the water has reached (s): steps taken × Δt_w (counted from the last change
+    /// of the step, [`Self::set_constants`]).
     pub fn time(&self) -> f64 {
-        self.steps as f64 * self.dt
+        let (t0, n0) = self.epoch;
+        t0 + (self.steps - n0) as f64 * self.dt
     }
     /// Steps taken so far.
     pub fn steps(&self) -> u64 {
@@ -394,8 +414,9 @@ impl WaterGrid {
         }
         self.clock = self.clock.max(self.time()) + dt;
         // A tolerance of 1e-9 steps absorbs the rounding of a clock advanced in step-sized increments.
-        let due = (self.clock / self.dt + 1e-9).floor();
-        while (self.steps as f64) < due {
+        let (t0, n0) = self.epoch;
+        let due = ((self.clock - t0) / self.dt + 1e-9).floor();
+        while ((self.steps - n0) as f64) < due {
             self.step();
         }
     }
@@ -403,6 +424,7 @@ impl WaterGrid {
     /// Runs exactly one water step. Uses the current rayon pool (`pool.install(|| grid.step())` picks
     /// one); the result is bit-identical for any number of threads.
     pub fn step(&mut self) {
+        self.apply_pending_momentum();
         self.apply_pending_pressure();
         let chunks = self.chunk_bounds();
         let has_press = !self.touched.is_empty();

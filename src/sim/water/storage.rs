@@ -7,8 +7,21 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::sim::params::Swell;
 
-use super::kernel::Scratch;
-use super::WaterGrid;
+use crate::sim::params::Limiter;
+
+use super::kernel::{Scratch, SEGMENT};
+use super::{WaterConfig, WaterGrid};
+
+/// Pipe areas (m²) of an axis and a diagonal pipe: the isotropic A_axis = ⅔Hl, A_diag = (√2/6)Hl
+/// with diagonals (equal areas would make waves 1.55× too fast), A = Hl with axis pipes only.
+pub(super) fn pipe_areas(cfg: &WaterConfig) -> (f64, f64) {
+    let (l, h) = (cfg.cell, cfg.depth);
+    if cfg.diagonal_pipes {
+        (2.0 / 3.0 * h * l, std::f64::consts::SQRT_2 / 6.0 * h * l)
+    } else {
+        (h * l, 0.0)
+    }
+}
 
 /// Shape of the kernel and its coefficients in f64, as derived from the configuration.
 #[derive(Debug, Clone, Copy)]
@@ -33,6 +46,25 @@ pub(super) struct Coeffs {
 }
 
 impl Coeffs {
+    /// The coefficients of a configuration at step `dt` (water.md §2–§3 for the pipe areas).
+    pub(super) fn new(cfg: &WaterConfig, dt: f64) -> Self {
+        let (l, g, rho) = (cfg.cell, cfg.gravity, cfg.density);
+        let (ax, ad) = pipe_areas(cfg);
+        let (lx, ld) = (l, std::f64::consts::SQRT_2 * l);
+        Self {
+            nx: cfg.nx,
+            ny: cfg.ny,
+            nf: if cfg.diagonal_pipes { 5 } else { 3 },
+            clamp: cfg.limiter == Limiter::PaperClamp,
+            damp: (-cfg.damping * dt).exp(),
+            gx: dt * g * ax / lx,
+            gd: dt * g * ad / ld,
+            px: dt * ax / (rho * lx),
+            pd: dt * ad / (rho * ld),
+            beta: dt / (l * l),
+            seg: SEGMENT,
+        }
+    }
     /// Padded length of one field of a row: one zero before and after the nx values.
     pub(super) fn w(&self) -> usize {
         self.nx + 2
@@ -308,13 +340,8 @@ impl WaterGrid {
         let amp = swell.amplitude;
         let eta = |x: f64, y: f64, t: f64| amp * (k * (cs * x + sn * y) - omega * t).sin();
         let t_half = -0.5 * self.dt;
-        // Flow per unit η along each pipe: (gA/c)(e·n); A_axis, A_diag as in `with_config`.
-        let h = self.cfg.depth;
-        let (ax, ad) = if self.cfg.diagonal_pipes {
-            (2.0 / 3.0 * h * l, std::f64::consts::SQRT_2 / 6.0 * h * l)
-        } else {
-            (h * l, 0.0)
-        };
+        // Flow per unit η along each pipe: (gA/c)(e·n).
+        let (ax, ad) = pipe_areas(&self.cfg);
         let g = self.cfg.gravity;
         let (fx, fd) = if c > 0.0 {
             (g * ax / c, g * ad / c)
