@@ -16,7 +16,8 @@ use crate::sim::params::{Integrator, Preset};
 use crate::sim::stone::Stone;
 use crate::sim::{simulate, Simulation};
 
-use super::plot::{colors, Chart, Legend, Mark, Panel, RefLine, Series};
+use super::plot::{Chart, Legend, Mark, Panel, RefLine, Series};
+use super::style::{colors, integrator_color, integrator_name, Rgb};
 use super::table::{md_table, pct, sig, Csv};
 use super::throws::{self, throw_list, Throw};
 use super::{check_cancel, logspace, rel_err, Ctx, StudyError};
@@ -151,15 +152,15 @@ impl Setting {
         if self.integrator == Integrator::Adaptive {
             format!("Adaptive, tick {} ms", sig(1e3 * self.dt, 2))
         } else {
-            name(self.integrator).to_string()
+            integrator_name(self.integrator).to_string()
         }
     }
 
-    pub fn color(&self) -> plotters::style::RGBColor {
+    pub fn color(&self) -> Rgb {
         match self.integrator {
             Integrator::Adaptive if self.dt > 0.02 => colors::PURPLE,
             Integrator::Adaptive if self.dt > 1e-3 => colors::SKY,
-            i => color(i),
+            i => integrator_color(i),
         }
     }
 }
@@ -219,8 +220,8 @@ pub fn settings(quick: bool) -> Vec<Setting> {
 }
 
 /// The curves of the work-precision charts, in drawing order: (family, colour).
-pub fn families(settings: &[Setting]) -> Vec<(String, plotters::style::RGBColor)> {
-    let mut out: Vec<(String, plotters::style::RGBColor)> = Vec::new();
+pub fn families(settings: &[Setting]) -> Vec<(String, Rgb)> {
+    let mut out: Vec<(String, Rgb)> = Vec::new();
     for s in settings {
         let f = s.family();
         if !out.iter().any(|(g, _)| *g == f) {
@@ -300,25 +301,6 @@ pub fn sweep(
             })
         })
         .collect()
-}
-
-/// Display name of an integrator.
-pub fn name(i: Integrator) -> &'static str {
-    match i {
-        Integrator::Paper => "Paper",
-        Integrator::SymplecticEuler => "SymplecticEuler",
-        Integrator::Rk4 => "Rk4",
-        Integrator::Adaptive => "Adaptive",
-    }
-}
-
-pub fn color(i: Integrator) -> plotters::style::RGBColor {
-    match i {
-        Integrator::Paper => colors::RED,
-        Integrator::SymplecticEuler => colors::ORANGE,
-        Integrator::Rk4 => colors::BLUE,
-        Integrator::Adaptive => colors::GREEN,
-    }
 }
 
 /// The cheapest point of curve `family` whose `metric` is at most `target` there and at every
@@ -650,7 +632,7 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
 fn series_for(
     points: &[Point],
     throw: &str,
-    family: &(String, plotters::style::RGBColor),
+    family: &(String, Rgb),
     f: impl Fn(&Point) -> (f64, f64),
 ) -> Series {
     let mut pts: Vec<&Point> = points
@@ -694,7 +676,7 @@ pub fn write(ctx: &Ctx, res: &Results) -> Result<(), StudyError> {
     for p in &res.points {
         csv.push(vec![
             p.throw.key.into(),
-            name(p.setting.integrator).into(),
+            integrator_name(p.setting.integrator).into(),
             p.setting.dt.into(),
             p.setting.tolerance.into(),
             p.stats.force_evals.into(),

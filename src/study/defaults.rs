@@ -11,10 +11,11 @@ use rayon::prelude::*;
 use crate::sim::params::{Integrator, Preset};
 
 use super::accuracy::{
-    self, errors, measure, name, throw_preset, Errors, MeshPoint, Setting, WaterPoint, REF_TICK,
+    self, errors, measure, throw_preset, Errors, MeshPoint, Setting, WaterPoint, REF_TICK,
     REF_TOLERANCE,
 };
-use super::plot::{self, colors, Chart, Legend, Mark, Panel, RefLine, Series};
+use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
+use super::style::{colors, integrator_name};
 use super::table::{md_table, pct, sig, Csv};
 use super::throws::{self, throw_list, Throw};
 use super::{check_cancel, Ctx, StudyError};
@@ -222,7 +223,7 @@ pub fn best_pair(
                 continue;
             }
             let e = evals_of(points, tk, tl);
-            if best.map_or(true, |b| e < b.2) {
+            if best.is_none_or(|b| e < b.2) {
                 best = Some((tl, tk, e));
             }
         }
@@ -409,7 +410,7 @@ fn write(
     let push = |csv: &mut Csv, knob: &str, i: Integrator, p: &KnobPoint| {
         csv.push(vec![
             knob.into(),
-            name(i).into(),
+            integrator_name(i).into(),
             p.throw.key.into(),
             p.setting.dt.into(),
             p.setting.tolerance.into(),
@@ -653,7 +654,7 @@ fn write(
     let mut rows = Vec::new();
     for (i, pick, evals, _) in fixed {
         rows.push(vec![
-            name(*i).to_string(),
+            integrator_name(*i).to_string(),
             pick.map_or("none in the sweep".into(), |d| format!("{} s", sig(d, 2))),
             evals.map_or("–".into(), |e| e.to_string()),
         ]);
@@ -738,12 +739,12 @@ fn write(
             let mark = |ok: bool| if ok { "" } else { " ⚠" };
             vec![
                 p.name.clone(),
-                name(p.integrator).to_string(),
+                integrator_name(p.integrator).to_string(),
                 if p.integrator == Integrator::Adaptive {
                     format!(
                         "{}{}",
                         sig(p.tolerance, 1),
-                        mark(rec.tolerance.map_or(true, |t| p.tolerance <= t * 1.0001))
+                        mark(rec.tolerance.is_none_or(|t| p.tolerance <= t * 1.0001))
                     )
                 } else {
                     "– (fixed step)".into()
@@ -752,13 +753,13 @@ fn write(
                 format!(
                     "{}{}",
                     p.segments,
-                    mark(!p.lens || rec.segments.map_or(true, |n| p.segments >= n))
+                    mark(!p.lens || rec.segments.is_none_or(|n| p.segments >= n))
                 ),
                 if p.water {
                     format!(
                         "{}{}",
                         sig(p.cell, 2),
-                        mark(rec.cell_10pct.map_or(true, |c| p.cell <= c * 1.0001))
+                        mark(rec.cell_10pct.is_none_or(|c| p.cell <= c * 1.0001))
                     )
                 } else {
                     "water off".into()

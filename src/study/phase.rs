@@ -16,9 +16,10 @@ use crate::sim::reference::{self, MinSpeedOptions, Plate2d};
 use crate::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
 use crate::sim::Simulation;
 
-use super::plot::{self, colors, Cell, Chart, Heatmap, Legend, Mark, Panel, RefLine, Series};
+use super::plot::{self, half_steps, Cell, Chart, Heatmap, Legend, Mark, Panel, RefLine, Series};
+use super::style::{colors, law_color, law_name, skip_class, skip_classes};
 use super::table::{md_table, sig, Csv};
-use super::throws::clanet_disc;
+use super::throws::{clanet_disc, EVAL_CAP};
 
 use super::{check_cancel, linspace_step, Ctx, StudyError};
 
@@ -51,22 +52,6 @@ pub fn grid(quick: bool) -> Grid {
     }
 }
 
-pub fn law_name(l: ForceLaw) -> &'static str {
-    match l {
-        ForceLaw::Rosellini => "Rosellini",
-        ForceLaw::Paper => "Paper",
-        ForceLaw::Bocquet => "Bocquet",
-    }
-}
-
-fn law_color(l: ForceLaw) -> plotters::style::RGBColor {
-    match l {
-        ForceLaw::Rosellini => colors::BLUE,
-        ForceLaw::Paper => colors::RED,
-        ForceLaw::Bocquet => colors::GREEN,
-    }
-}
-
 /// The 2D model (reference.rs) with the same law and coefficients as the 3D defaults, ventilated
 /// like the 3D solver.
 pub fn plate_2d(law: ForceLaw, tilt_deg: f64) -> Plate2d {
@@ -90,9 +75,6 @@ pub fn tolerance(law: ForceLaw) -> f64 {
         _ => 1e-6,
     }
 }
-
-/// Most force evaluations one map run may take; a run stopped there counts its skips so far.
-pub const EVAL_CAP: u64 = 300_000;
 
 /// Clanet's disc under `law` at `tilt` (degrees), with the phase tolerance.
 pub fn disc(law: ForceLaw, tilt: f64) -> Preset {
@@ -268,48 +250,6 @@ pub fn argmin(tilts: &[f64], v: &[Option<f64>]) -> Option<(f64, f64)> {
         .min_by(|a, b| a.1.total_cmp(&b.1))
 }
 
-pub(crate) fn class_of(skips: usize) -> usize {
-    match skips {
-        0 => 0,
-        1 => 1,
-        2 => 2,
-        3..=4 => 3,
-        5..=9 => 4,
-        _ => 5,
-    }
-}
-
-pub(crate) fn classes() -> Vec<(String, plotters::style::RGBColor)> {
-    use plotters::style::RGBColor;
-    vec![
-        ("0: no skip".into(), RGBColor(244, 204, 190)),
-        ("1 skip".into(), RGBColor(222, 235, 247)),
-        ("2".into(), RGBColor(179, 210, 233)),
-        ("3–4".into(), RGBColor(120, 175, 215)),
-        ("5–9".into(), RGBColor(60, 130, 190)),
-        ("10+".into(), RGBColor(20, 80, 150)),
-    ]
-}
-
-pub(crate) fn half_steps(v: &[f64]) -> Vec<(f64, f64)> {
-    let n = v.len();
-    (0..n)
-        .map(|i| {
-            let lo = if i > 0 {
-                0.5 * (v[i - 1] + v[i])
-            } else {
-                v[i] - 0.5 * (v.get(1).map_or(1.0, |b| b - v[0]))
-            };
-            let hi = if i + 1 < n {
-                0.5 * (v[i] + v[i + 1])
-            } else {
-                v[i] + 0.5 * (if n > 1 { v[i] - v[i - 1] } else { 1.0 })
-            };
-            (lo, hi)
-        })
-        .collect()
-}
-
 /// Everything per law.
 #[derive(Debug, Clone)]
 pub struct LawResult {
@@ -424,7 +364,7 @@ fn write(ctx: &Ctx, g: &Grid, results: &[LawResult]) -> Result<(), StudyError> {
                         x1: tilt_edges[i].1,
                         y0: edges[j].0,
                         y1: edges[j].1,
-                        class: class_of(p.skips),
+                        class: skip_class(p.skips),
                     })
                 })
                 .collect()
@@ -446,7 +386,7 @@ fn write(ctx: &Ctx, g: &Grid, results: &[LawResult]) -> Result<(), StudyError> {
                 speed_edges.last().map_or(8.0, |e| e.1),
             ),
             cells: cells(&r.speed_map, &g.speeds, &speed_edges, &|p| p.speed),
-            classes: classes(),
+            classes: skip_classes(),
             overlays: vec![
                 Series::new(
                     "minimal speed (3D)",
@@ -480,7 +420,7 @@ fn write(ctx: &Ctx, g: &Grid, results: &[LawResult]) -> Result<(), StudyError> {
                 beta_edges.last().map_or(60.0, |e| e.1),
             ),
             cells: cells(&r.beta_map, &g.betas, &beta_edges, &|p| p.beta),
-            classes: classes(),
+            classes: skip_classes(),
             overlays: vec![Series::new(
                 "largest β that skips",
                 curve(&r.beta_max),

@@ -23,10 +23,10 @@ use crate::sim::params::{
 use crate::sim::scenario::{at_impact, IMPACT_CLEARANCE};
 use crate::sim::Simulation;
 
-use super::phase::{class_of, classes, half_steps, EVAL_CAP};
-use super::plot::{self, colors, Cell, Chart, Heatmap, Legend, Mark, Panel, RefLine, Series};
+use super::plot::{self, half_steps, Cell, Chart, Heatmap, Legend, Mark, Panel, RefLine, Series};
+use super::style::{colors, skip_class, skip_classes};
 use super::table::{md_table, sig, Csv};
-use super::throws::clanet_disc;
+use super::throws::{clanet_disc, EVAL_CAP};
 use super::{check_cancel, linspace_step, logspace, Ctx, StudyError};
 
 const REV: f64 = std::f64::consts::TAU;
@@ -453,7 +453,7 @@ fn write(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), StudyE
                     x1: tilt_edges[i].1,
                     y0: spin_edges[j].0,
                     y1: spin_edges[j].1,
-                    class: class_of(p.skips),
+                    class: skip_class(p.skips),
                 })
             })
             .collect();
@@ -486,7 +486,7 @@ fn write(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), StudyE
                 spin_edges.last().map_or(100.0, |e| e.1),
             ),
             cells,
-            classes: classes(),
+            classes: skip_classes(),
             overlays: vec![
                 Series::new(
                     "spin threshold (first contact skips)",

@@ -19,8 +19,8 @@ use crate::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
 use crate::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
 use crate::sim::{Simulation, StepSample};
 
-use super::accuracy::{color, name};
-use super::plot::{self, colors, Chart, Legend, Mark, Panel, RefLine, Series};
+use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
+use super::style::{colors, integrator_color, integrator_name};
 use super::table::{md_table, pct, sig, Csv};
 use super::throws::{self, FAST};
 use super::{check_cancel, logspace, rel_err, Ctx, StudyError};
@@ -360,7 +360,7 @@ pub fn shallow_lake_drift(
     while sim.time() < t_end {
         sim.tick();
         k += 1;
-        if k % 20 == 0 {
+        if k.is_multiple_of(20) {
             if let Some(w) = sim.water() {
                 out.push((sim.time(), (w.volume() - v0) / v0));
             }
@@ -508,7 +508,7 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
         for b in &runs {
             csv.push(vec![
                 case.key.into(),
-                name(b.integrator).into(),
+                integrator_name(b.integrator).into(),
                 b.dt.into(),
                 b.skipped.into(),
                 b.finite.into(),
@@ -549,15 +549,15 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
             own.sort_by(|a, b| a.dt.total_cmp(&b.dt));
             // A run that did not leave the water has no exit speed: a gap in the curve.
             rest = rest.series(Series::new(
-                name(i),
+                integrator_name(i),
                 own.iter()
                     .map(|b| (b.dt, if b.skipped { b.restitution } else { f64::NAN }))
                     .collect(),
-                color(i),
+                integrator_color(i),
                 Mark::LinePoints,
             ));
             en = en.series(Series::new(
-                name(i),
+                integrator_name(i),
                 own.iter()
                     .map(|b| {
                         let e = if b.skipped {
@@ -568,7 +568,7 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
                         (b.dt, e)
                     })
                     .collect(),
-                color(i),
+                integrator_color(i),
                 Mark::LinePoints,
             ));
             sank.extend(own.iter().filter(|b| !b.skipped).map(|b| (b.dt, 0.03)));
@@ -579,7 +579,7 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
             let first_bad = own.iter().find(|b| !b.stable()).copied();
             rows.push(vec![
                 case.key.to_string(),
-                name(i).to_string(),
+                integrator_name(i).to_string(),
                 stable.map_or("none".into(), |d| format!("{} s", sig(d, 2))),
                 acc1.map_or("none".into(), |d| format!("{} s", sig(d, 2))),
                 first_bad.map_or("–".into(), |b| {
@@ -1005,7 +1005,7 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
             let e = rel_err(r.distance, reference.distance);
             pcsv.push(vec![
                 (*key).into(),
-                name(r.integrator).into(),
+                integrator_name(r.integrator).into(),
                 r.dt.into(),
                 r.skips.into(),
                 r.distance.into(),
@@ -1220,7 +1220,7 @@ fn contact_findings(h: &[(Integrator, Option<f64>, Option<f64>)]) -> String {
         .map(|(i, st, acc)| {
             format!(
                 "{} stable up to {}, within 1 % up to {}",
-                name(*i),
+                integrator_name(*i),
                 st.map_or("no swept step".into(), |d| format!("{} s", sig(d, 2))),
                 acc.map_or("no swept step".into(), |d| format!("{} s", sig(d, 2)))
             )
