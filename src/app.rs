@@ -822,7 +822,7 @@ impl Model {
     /// [`READOUT_HZ`] while animating).
     fn refresh_shown(&mut self) {
         let due = !self.animating()
-            || self.shown.at.map_or(true, |t| {
+            || self.shown.at.is_none_or(|t| {
                 t.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
                     && self.frames >= self.shown.frame + READOUT_MIN_FRAMES
             });
@@ -1265,7 +1265,7 @@ fn draw(
         // Everything is drawn into an ordinary texture, then copied to the window by a
         // write-only pass: blending straight into a software swapchain image reads it back, which
         // lavapipe makes very slow (the panels cost 5× more).
-        let fresh_canvas = gfx.canvas.as_ref().map_or(true, |(s, _, _)| *s != size);
+        let fresh_canvas = gfx.canvas.as_ref().is_none_or(|(s, _, _)| *s != size);
         let (canvas_tex, canvas) = canvas_view(gfx, size);
         // Software rasterisers without MSAA redraw only the 3D view while the panels are unchanged.
         let fingerprint = ui_fingerprint(prims, ppp);

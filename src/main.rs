@@ -26,6 +26,9 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
+// Built without the `app` feature, `gui` and `render` are still parsed, to answer with a clear
+// message, but their arguments are never read.
+#[cfg_attr(not(feature = "app"), allow(dead_code))]
 enum Command {
     /// Opens the desktop app (the default).
     Gui {
@@ -82,9 +85,14 @@ fn main() {
 fn run() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
+        #[cfg(feature = "app")]
         None => stoneskip::app::run_app(None, None),
+        #[cfg(feature = "app")]
         Some(Command::Gui { preset, frames }) => stoneskip::app::run_app(preset, frames),
+        #[cfg(not(feature = "app"))]
+        None | Some(Command::Gui { .. }) | Some(Command::Render { .. }) => Err(without_app()),
         Some(Command::Simulate { preset, json, csv }) => simulate(&preset, json, csv.as_deref()),
+        #[cfg(feature = "app")]
         Some(Command::Render {
             preset,
             out,
@@ -100,6 +108,15 @@ fn run() -> Result<()> {
             stoneskip::study::run_study(&name, &out, quick)
         }
     }
+}
+
+/// The answer of a headless build to `gui`, `render` or no subcommand.
+#[cfg(not(feature = "app"))]
+fn without_app() -> anyhow::Error {
+    anyhow::anyhow!(
+        "this stoneskip was built without the `app` feature, so it has no window and no renderer \
+         (`gui`, `render`); `simulate` and `study` work. Rebuild with the default features for the app."
+    )
 }
 
 fn simulate(path: &Path, json: bool, csv: Option<&Path>) -> Result<()> {

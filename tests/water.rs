@@ -1113,7 +1113,7 @@ fn stone_and_water_exchange_equal_impulses() {
         let m = sim.stone().mass;
         let g = p.physics.gravity;
         let (t0, v0) = (sim.time(), sim.state().velocity);
-        while !sim.contacts().first().is_some_and(|c| !c.open) {
+        while sim.contacts().first().is_none_or(|c| c.open) {
             sim.tick();
         }
         let c = sim.contacts()[0];

@@ -919,10 +919,7 @@ impl SceneRenderer {
             (wv.nx as f64 * wv.cell) as f32,
             (wv.ny as f64 * wv.cell) as f32,
         ];
-        let rebuild = self
-            .water
-            .as_ref()
-            .map_or(true, |w| w.grid != (wv.nx, wv.ny));
+        let rebuild = self.water.as_ref().is_none_or(|w| w.grid != (wv.nx, wv.ny));
         if rebuild {
             self.water = Some(self.make_water(device, wv.nx, wv.ny));
         }

@@ -16,6 +16,7 @@ pub mod phase;
 pub mod plot;
 pub mod spin;
 pub mod stability;
+pub mod style;
 pub mod table;
 pub mod throws;
 
@@ -187,7 +188,29 @@ fn run_one(name: &str, out: &Path, quick: bool) -> Result<f64, StudyError> {
         }
         other => return Err(StudyError::Unknown(other.to_owned())),
     }
+    if !plot::CHARTS {
+        note_no_charts(out)?;
+    }
     Ok(started.elapsed().as_secs_f64())
+}
+
+/// Says at the top of a study's report that its charts were not drawn (a build without the
+/// `charts` feature), so the images it links to are missing.
+fn note_no_charts(out: &Path) -> Result<(), StudyError> {
+    let path = out.join("README.md");
+    let text = std::fs::read_to_string(&path).map_err(|source| StudyError::Io {
+        path: path.clone(),
+        source,
+    })?;
+    let note = "> Charts not drawn: this stoneskip was built without the `charts` feature, so the \
+                PNG images this report links to are missing; the CSV files hold the data.\n\n";
+    let ctx = Ctx {
+        out: out.to_path_buf(),
+        quick: false,
+        name: "report",
+        started: Instant::now(),
+    };
+    ctx.write("README.md", &format!("{note}{text}"))
 }
 
 /// The relative difference |a − b| / |b| (|b| floored at 1e-300, so never NaN for finite input).
