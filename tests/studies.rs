@@ -167,6 +167,11 @@ fn quick_spin_writes_its_outputs() {
 }
 
 #[test]
+fn quick_fidelity_writes_its_outputs() {
+    quick("fidelity");
+}
+
+#[test]
 fn quick_defaults_writes_its_outputs() {
     quick("defaults");
 }

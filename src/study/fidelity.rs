@@ -20,7 +20,9 @@ use crate::sim::metrics::{hovercraft, throw_shape, ThrowShape};
 use crate::sim::params::{AxialSpin, ForceLaw, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
-use super::plot::{self, colors, Chart, Legend, Mark, Panel, RefLine, Series};
+use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
+use super::style::colors;
+use super::style::law_name;
 use super::table::{md_table, sig, Csv, Val};
 use super::throws::clanet_disc;
 use super::{check_cancel, Ctx, StudyError};
@@ -379,8 +381,9 @@ pub struct SpeedRun {
 
 fn record(quick: bool) -> Result<Vec<SpeedRun>, StudyError> {
     let p = shipped("record_throw")?;
+    // The record run is the study's longest (tests/fidelity.rs checks it): full runs only.
     let speeds: Vec<f64> = if quick {
-        vec![19.0, 12.0]
+        vec![]
     } else {
         vec![19.0, 15.0, 12.0, 9.0]
     };
@@ -599,7 +602,9 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     for r in &f.record {
         c.push(shape_row(&format!("{} m/s", r.speed), &r.shape));
     }
-    ctx.write_csv("record_class.csv", &c)?;
+    if !c.is_empty() {
+        ctx.write_csv("record_class.csv", &c)?;
+    }
     let mut c = Csv::new(&["tilt_deg", "u_min_before", "u_min_after"]);
     for a in &f.anchors {
         let v = |u: Option<f64>| Val::F(u.unwrap_or(f64::NAN));
@@ -614,13 +619,6 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     ctx.write_csv("presets.csv", &c)
 }
 
-fn law_name(l: ForceLaw) -> &'static str {
-    match l {
-        ForceLaw::Rosellini => "Rosellini",
-        ForceLaw::Paper => "Paper",
-        ForceLaw::Bocquet => "Bocquet",
-    }
-}
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     let pts = |g: &dyn Fn(&SpinRun) -> f64| -> Vec<(f64, f64)> {
@@ -1005,6 +1003,9 @@ fn near_section(f: &Fidelity) -> String {
 }
 
 fn record_section(f: &Fidelity) -> String {
+    if f.record.is_empty() {
+        return "\n## 4. Record class\n\nFull runs only (tests/fidelity.rs checks it).\n".into();
+    }
     let mut s = String::from(
         "\n## 4. Record class\n\n`record_throw.ron` (150 g, 7 mm, 30 rev/s) at 19 m/s and slower.\n\n",
     );
