@@ -562,6 +562,43 @@ mod tests {
         assert!(axis_err < 1e-4, "axis error {axis_err}");
     }
 
+    /// The clearance search on a synthetic flight: the centre falls along a parabola while the
+    /// lowest point wobbles by `amp` at angular frequency `w` (clearance relative to the centre
+    /// −d − amp·sin²(w x), x advancing at 1 m/s), so its rate is at most amp·w. A dip between two dry
+    /// ends is found, and its bracket holds the first touch; a wobble that stays clear is proven so.
+    #[test]
+    fn touch_search_finds_a_dip_between_dry_ends() {
+        let stone = disc();
+        let (d, amp, w, h) = (0.005, 0.03, std::f64::consts::PI / 0.01, 0.01);
+        let fly = |s: &BodyState, t: f64| flight(&stone, Rotation::Locked, 9.81, s, t);
+        let rel = |s: &BodyState| -d - amp * (w * s.position.x).sin().powi(2);
+        let bound = FlightBound {
+            rate: amp * w,
+            floor: -d - amp,
+        };
+        for (z0, touches) in [(0.02, true), (0.036, false)] {
+            let s = BodyState {
+                position: DVec3::new(0.0, 0.0, z0),
+                velocity: DVec3::new(1.0, 0.0, 0.0),
+                orientation: DQuat::IDENTITY,
+                angular_momentum: DVec3::ZERO,
+            };
+            let clear = |st: &BodyState| st.position.z + rel(st);
+            assert!(clear(&s) > 0.0 && clear(&fly(&s, h)) > 0.0);
+            let found = first_touch(&fly, &clear, &bound, &s, h);
+            // Brute force on the same flight.
+            let first = (0..=100_000)
+                .map(|i| h * i as f64 / 100_000.0)
+                .find(|&t| clear(&fly(&s, t)) <= 0.0);
+            assert_eq!(found.is_some(), touches, "z0 {z0}: {found:?}");
+            assert_eq!(first.is_some(), touches);
+            if let (Some((lo, hi)), Some(t)) = (found, first) {
+                assert!(clear(&fly(&s, lo)) > 0.0 && clear(&fly(&s, hi)) <= 0.0);
+                assert!(lo <= t && t <= hi + h / 100_000.0, "{lo} {t} {hi}");
+            }
+        }
+    }
+
     #[test]
     fn flight_is_exact_parabola() {
         let stone = disc();

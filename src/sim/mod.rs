@@ -536,17 +536,21 @@ impl Simulation {
         }
         if let Some(w) = &self.water {
             let (mut m, mut sx, mut sy) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
+            let (mut below, mut row): (Vec<f64>, Vec<f64>) =
+                (Vec::new(), Vec::with_capacity(w.nx()));
             for iy in 0..w.ny() {
-                for ix in 0..w.nx() {
-                    let e = w.eta(ix, iy);
+                row.clear();
+                row.extend((0..w.nx()).map(|ix| w.eta(ix, iy)));
+                for (ix, &e) in row.iter().enumerate() {
                     m = m.max(e);
-                    if ix + 1 < w.nx() {
-                        sx = sx.max((w.eta(ix + 1, iy) - e).abs());
+                    if ix > 0 {
+                        sx = sx.max((e - row[ix - 1]).abs());
                     }
-                    if iy + 1 < w.ny() {
-                        sy = sy.max((w.eta(ix, iy + 1) - e).abs());
+                    if let Some(b) = below.get(ix) {
+                        sy = sy.max((e - b).abs());
                     }
                 }
+                std::mem::swap(&mut below, &mut row);
             }
             self.water_max_eta = if m.is_finite() { m } else { 0.0 };
             let slope = sx.hypot(sy) / w.cell();
