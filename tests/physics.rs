@@ -43,6 +43,10 @@ fn plate_converges_to_bocquet_2d() {
             r2.skips()
         );
         assert!(s3.skips >= 5, "a good Bocquet throw skips many times");
+        if vz0 == -0.3 {
+            // The README's headline: 12 skips at 12 m/s, V_z −0.3 m/s.
+            assert_eq!(s3.skips, 12, "Bocquet's throw");
+        }
         assert!(
             rel(s3.distance, r2.distance) < 0.01,
             "distance 3D {} vs 2D {}",
@@ -352,4 +356,84 @@ fn sinking_instant_converges() {
     }
     eprintln!("reference t {t_ref} s, d {d_ref} m; (integrator, dt, tol, |Δt|, |Δd|): {rows:?}");
     assert!(rows.iter().all(|r| r.3 < 1e-6 && r.4 < 1e-5), "{rows:?}");
+}
+
+/// A stone flying low over a swell, above the troughs at both ends of a tick, crosses a crest in
+/// between: with wavy contact the flight's clearance is bounded with the surface's slope (the
+/// lowest vertex's clearance changes at most at slope × speed), so the contact is found, where the
+/// exact flight first meets the grid's surface (found here by brute force on 200 000 samples).
+#[test]
+fn low_flight_over_a_crest_touches_inside_a_tick() {
+    use stoneskip::sim::hydro::{lowest_clearance, Surface};
+    use stoneskip::sim::integrate::flight;
+    use stoneskip::sim::params::{Attitude, Rotation, Shape, StoneParams, Swell};
+    use stoneskip::sim::water::WaterGrid;
+    struct Grid<'a>(&'a WaterGrid);
+    impl Surface for Grid<'_> {
+        fn height(&self, x: f64, y: f64) -> f64 {
+            self.0.surface_height(x, y)
+        }
+        fn max_height(&self) -> f64 {
+            f64::INFINITY
+        }
+    }
+    let (dt, wavelength) = (0.005, 0.2);
+    for integrator in [Integrator::Adaptive, Integrator::Rk4] {
+        let mut p = Preset::default();
+        p.stone = StoneParams {
+            shape: Shape::Disk {
+                radius: 0.01,
+                thickness: 0.002,
+            },
+            mass: 0.005,
+            segments: 16,
+        };
+        p.launch.attitude = Attitude {
+            tilt_deg: 0.0,
+            bank_deg: 0.0,
+            heading_deg: 0.0,
+        };
+        p.launch.spin = 0.0;
+        // Over a trough (η = A sin kx, trough at x = −λ/4), one wavelength per tick.
+        p.launch.position = [-0.25 * wavelength, 0.0, -0.004];
+        p.launch.velocity = [wavelength / dt, 0.0, 0.0];
+        p.physics.rotation = Rotation::Locked;
+        p.physics.integrator = integrator;
+        p.physics.dt = dt;
+        p.water.wavy_contact = true;
+        p.water.cell = 0.005;
+        p.water.size = [1.0, 0.2];
+        p.water.origin = Some([-0.4, -0.1]);
+        p.water.swell = Some(Swell {
+            amplitude: 0.01,
+            wavelength,
+            heading_deg: 0.0,
+        });
+        let mut sim = Simulation::new(&p).unwrap();
+        let s0 = *sim.state();
+        let touch = {
+            let grid = Grid(sim.water().unwrap());
+            let clear = |t: f64| {
+                let s = flight(sim.stone(), Rotation::Locked, p.physics.gravity, &s0, t);
+                lowest_clearance(sim.stone(), s.position, s.orientation, &grid)
+            };
+            assert!(
+                clear(0.0) > 0.002 && clear(dt) > 0.002,
+                "clear at both ends"
+            );
+            let n = 200_000;
+            (0..=n)
+                .map(|i| dt * i as f64 / n as f64)
+                .find(|&t| clear(t) <= 0.0)
+                .expect("meets the crest mid-tick")
+        };
+        sim.tick();
+        let c = sim.contacts().first().copied();
+        let c = c.unwrap_or_else(|| panic!("{integrator:?}: the crest inside the tick was missed"));
+        assert!(
+            (c.t_start - touch).abs() <= dt / 200_000.0,
+            "{integrator:?}: contact starts at {} s, the exact flight touches at {touch} s",
+            c.t_start
+        );
+    }
 }

@@ -6,6 +6,12 @@
 //! one). The time step is a parameter, never read from a clock, and nothing is random: the same
 //! preset gives bit-identical results. Depends on glam, serde, thiserror and rayon only; knows
 //! nothing of frames, windows or wall-clock time.
+//!
+//! Events are located, not sampled at step ends: the first touch along the exact flight (its
+//! clearance bounded along the torque-free motion and over the waves, so a tumbling stone's or a
+//! crest's graze inside a tick is found), the exit, and the sinking instant inside the step that
+//! sinks. A step reports the forces of its end, and the water receives the stone's whole impulse,
+//! vertical and horizontal (Newton's third law, to rounding).
 
 pub mod contact;
 pub mod hydro;
@@ -111,13 +117,14 @@ pub struct Summary {
     pub water: Option<WaterSummary>,
 }
 
-/// One accepted integration step, for trajectories and plots.
+/// One accepted integration step, for trajectories and plots: everything at the step's end.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepSample {
     pub time: f64,
     pub state: BodyState,
     pub angular_velocity: DVec3,
     pub in_contact: bool,
+    /// Wetted area (m²) and the water's force (N) at `state`, under every integrator.
     pub wetted_area: f64,
     pub force: DVec3,
 }
@@ -530,17 +537,21 @@ impl Simulation {
         }
         if let Some(w) = &self.water {
             let (mut m, mut sx, mut sy) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
+            let (mut below, mut row): (Vec<f64>, Vec<f64>) =
+                (Vec::new(), Vec::with_capacity(w.nx()));
             for iy in 0..w.ny() {
-                for ix in 0..w.nx() {
-                    let e = w.eta(ix, iy);
+                row.clear();
+                row.extend((0..w.nx()).map(|ix| w.eta(ix, iy)));
+                for (ix, &e) in row.iter().enumerate() {
                     m = m.max(e);
-                    if ix + 1 < w.nx() {
-                        sx = sx.max((w.eta(ix + 1, iy) - e).abs());
+                    if ix > 0 {
+                        sx = sx.max((e - row[ix - 1]).abs());
                     }
-                    if iy + 1 < w.ny() {
-                        sy = sy.max((w.eta(ix, iy + 1) - e).abs());
+                    if let Some(b) = below.get(ix) {
+                        sy = sy.max((e - b).abs());
                     }
                 }
+                std::mem::swap(&mut below, &mut row);
             }
             self.water_max_eta = if m.is_finite() { m } else { 0.0 };
             let slope = sx.hypot(sy) / w.cell();
@@ -844,11 +855,13 @@ impl StepContext<'_> {
         let speed_h = s.velocity.x.hypot(s.velocity.y);
         let max_eta = self.dy.surface.max_height();
         let bound = FlightBound::new(stone.bounding_radius, speed_h, omega, self.slope, max_eta);
-        let clear = |t: f64| {
-            let st = self.flight(s, t);
-            (self.clear(&st), st.position.z)
-        };
-        first_touch(&clear, &bound, h)
+        first_touch(
+            &|st: &BodyState, t: f64| self.flight(st, t),
+            &|st: &BodyState| self.clear(st),
+            &bound,
+            s,
+            h,
+        )
     }
 
     /// The contact step of this context's integrator from `s` (derivative `k1`) over `h`, with
@@ -939,11 +952,37 @@ fn fixed_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
     }
 }
 
+/// How far the highest vertex of the faces whose outward normal points down is above the surface
+/// (m): the underside is submerged (design.md §4 "sank", [`underside_submerged`]) exactly when this
+/// is negative; +∞ without a downward face. Continuous in the state, so the sinking instant can be
+/// found by a secant method.
+fn underside_height(stone: &Stone, st: &BodyState, surface: &dyn Surface) -> f64 {
+    let rot = DMat3::from_quat(st.orientation);
+    let mut highest = f64::NEG_INFINITY;
+    let mut any_down = false;
+    for (t, tri) in stone.mesh.triangles.iter().enumerate() {
+        if (rot * stone.normals[t]).z >= 0.0 {
+            continue;
+        }
+        any_down = true;
+        for &i in tri {
+            let w = st.position + rot * stone.mesh.positions[i as usize];
+            highest = highest.max(w.z - surface.height(w.x, w.y));
+        }
+    }
+    if any_down {
+        highest
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// The sinking instant inside a contact step, located as entry and exit are: if the step from
-/// `prev` ends with the underside submerged and did not start so, the step is cut to the first
-/// submerged length by bisection on the integrator's own step from `prev` (relative precision
-/// 1e-9 of the step), so the sinking time and place converge with the integrator rather than
-/// stopping at the step's end.
+/// `prev` ends with the underside submerged and did not start so, the step is cut to where the
+/// underside's highest point reaches the surface, by the Illinois (regula falsi) method on the
+/// integrator's own step from `prev`, to 1e-9 of the stone's size in height or of the step in time.
+/// So the sinking time and place converge with the integrator rather than stopping at the step's
+/// end.
 fn locate_sink(cx: &StepContext, m: &mut Motion, prev: &BodyState, k1: &Deriv, step: Step) -> Step {
     if !cx.submerged(&step.state) {
         return step;
@@ -951,22 +990,45 @@ fn locate_sink(cx: &StepContext, m: &mut Motion, prev: &BodyState, k1: &Deriv, s
     if cx.submerged(prev) {
         return Step { sunk: true, ..step };
     }
-    let (mut lo, mut hi) = (0.0, step.h);
-    while hi - lo > 1e-9 * step.h {
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
+    let height = |st: &BodyState| underside_height(cx.dy.stone, st, cx.dy.surface);
+    let eps = 1e-9 * cx.dy.stone.bounding_radius;
+    let (mut lo, mut f_lo) = (0.0, height(prev).max(0.0));
+    let (mut hi, mut f_hi) = (step.h, height(&step.state).min(0.0));
+    let mut side = 0i8;
+    // The step to `hi` when the last trial set it (its end loads are the scratch's).
+    let mut at_hi = None;
+    for _ in 0..60 {
+        if hi - lo <= 1e-9 * step.h || -f_hi <= eps {
             break;
         }
-        let (s, _, _, evals) = cx.contact_step(prev, k1, mid, &mut m.scratch);
+        let mut x = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+        if !(x > lo && x < hi) {
+            x = 0.5 * (lo + hi);
+        }
+        let (s, k_end, force, evals) = cx.contact_step(prev, k1, x, &mut m.scratch);
         m.force_evals += evals;
-        if cx.submerged(&s) {
-            hi = mid;
+        let fx = height(&s);
+        at_hi = None;
+        if fx < 0.0 && cx.submerged(&s) {
+            (hi, f_hi) = (x, fx);
+            at_hi = Some((s, k_end, force));
+            if side == 1 {
+                f_lo *= 0.5;
+            }
+            side = 1;
         } else {
-            lo = mid;
+            (lo, f_lo) = (x, fx.max(0.0));
+            if side == -1 {
+                f_hi *= 0.5;
+            }
+            side = -1;
         }
     }
-    let (state, k_end, force, evals) = cx.contact_step(prev, k1, hi, &mut m.scratch);
-    m.force_evals += evals;
+    let (state, k_end, force) = at_hi.unwrap_or_else(|| {
+        let (s, k, f, evals) = cx.contact_step(prev, k1, hi, &mut m.scratch);
+        m.force_evals += evals;
+        (s, k, f)
+    });
     m.fsal = Some((k_end, force));
     Step {
         state,

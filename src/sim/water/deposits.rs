@@ -100,10 +100,8 @@ impl WaterGrid {
     /// goes into the momentum of its axis pipes (see the module documentation). Ignored outside the
     /// grid or if not finite.
     pub fn deposit_momentum_box(&mut self, x: f64, y: f64, half: f64, j: [f64; 2]) {
-        if !(j[0].is_finite() && j[1].is_finite() && half.is_finite()) || !self.contains(x, y) {
-            return;
-        }
-        if j == [0.0, 0.0] {
+        let usable = j[0].is_finite() && j[1].is_finite() && half.is_finite();
+        if !usable || j == [0.0, 0.0] || !self.contains(x, y) {
             return;
         }
         let l = self.cfg.cell;

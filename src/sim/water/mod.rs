@@ -18,6 +18,9 @@
 //!   K = min(1, V/(Δt·Σ outflow)). Volume is conserved to rounding and V ≥ 0 for any Δt.
 //!   [`Limiter::PaperClamp`]: the paper's eq. 41 — a column whose new volume would be negative gets 0
 //!   (creates water); kept as the studied alternative.
+//! * **Coupling** (`deposits.rs`). The stone's vertical impulse enters as the external pressure E of
+//!   the next step; its horizontal impulse as momentum of the axis pipes under its footprint
+//!   (ΔQ = J/(ρL): the water in a pipe carries ρQL), so the water takes the stone's whole impulse.
 //! * **Walls.** Closed: no flow through a boundary face. With diagonal pipes, the diagonal pipes a mirror
 //!   image across the wall would have add to the pipe along the wall, so a wall is an exact mirror (the
 //!   Neumann boundary of the isotropic 9-point stencil): the method of images holds for both stencils.
@@ -55,6 +58,10 @@
 //! read). water.md §6.2's fused bound of 28 B/column in f32 also reads a bed; on the flat bed none is
 //! stored (rows with a bed add one read of it). Row blocks hold each field padded by one zero at both
 //! ends, so the inner loops are plain slices without edge branches and vectorise.
+//!
+//! **Layout.** This file: the configuration, the grid and its clock; `storage.rs`: the scalar types,
+//! the padded row blocks and the state setters; `kernel.rs`: the fused sweep; `deposits.rs`: the
+//! coupling; `sampling.rs`: the readings.
 //!
 //! Units are SI throughout: metres, seconds, m³/s, pascals, newton-seconds.
 
