@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::DVec3;
 use stoneskip::sim::metrics::{hovercraft, throw_shape, ThrowShape};
-use stoneskip::sim::params::{ForceLaw, Integrator, PressureSign, Preset, Rotation};
+use stoneskip::sim::params::{ForceLaw, Integrator, Preset, PressureSign, Rotation};
 use stoneskip::sim::{simulate, Summary};
 
 fn load(stem: &str) -> Preset {
@@ -71,7 +71,10 @@ fn no_law_or_option_creates_energy_over_a_contact() {
     printed.physics.pressure_sign = PressureSign::AsPrinted;
     printed.water.enabled = false;
     let gain = worst_speed_ratio(&simulate(&printed).unwrap());
-    assert!(gain > 1.01, "the printed law should push receding faces forward: ×{gain}");
+    assert!(
+        gain > 1.01,
+        "the printed law should push receding faces forward: ×{gain}"
+    );
 }
 
 /// The shipped paper preset (energy-consistent reading, the paper's own integrator) never leaves a
@@ -131,6 +134,9 @@ fn reversed_spin_curves_the_other_way() {
         let s = simulate(&q).unwrap();
         s.contacts[4].y
     };
-    let (a, b) = (lateral(20.0 * std::f64::consts::TAU), lateral(-20.0 * std::f64::consts::TAU));
+    let (a, b) = (
+        lateral(20.0 * std::f64::consts::TAU),
+        lateral(-20.0 * std::f64::consts::TAU),
+    );
     assert!(a * b < 0.0, "y at touchdown 5: {a} and {b}");
 }

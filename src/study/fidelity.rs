@@ -131,7 +131,7 @@ fn energy_budget(quick: bool) -> Result<Vec<Bounce>, StudyError> {
         p.water.enabled = false;
         p.physics.max_time = if quick { 3.0 } else { 10.0 };
         let (s, _) = shape(&p)?;
-        for (i, c) in s.contacts.iter().enumerate().take(12) {
+        for (i, c) in s.contacts.iter().filter(|c| c.skip).enumerate().take(12) {
             let speed = |v: [f64; 3]| DVec3::from_array(v).length();
             out.push(Bounce {
                 law,
@@ -400,6 +400,9 @@ pub struct Anchor {
     pub tilt_deg: f64,
     pub before: Option<f64>,
     pub after: Option<f64>,
+    /// Each new effect alone on the locked model: free rotation at 65 rev/s; buoyancy.
+    pub free_only: Option<f64>,
+    pub buoyancy_only: Option<f64>,
 }
 
 fn anchors(quick: bool) -> Result<Vec<Anchor>, StudyError> {
@@ -412,15 +415,21 @@ fn anchors(quick: bool) -> Result<Vec<Anchor>, StudyError> {
     par_map(tilts, |tilt| {
         check_cancel()?;
         let old = clanet_disc(ForceLaw::Rosellini, tilt);
-        let mut new = old.clone();
-        new.physics.rotation = Rotation::Free;
+        let mut free = old.clone();
+        free.physics.rotation = Rotation::Free;
+        free.launch.spin = 65.0 * TAU;
+        let mut buoyant = old.clone();
+        buoyant.physics.buoyancy = true;
+        let mut new = free.clone();
         new.physics.buoyancy = true;
         new.physics.axial_spin = AxialSpin::Smooth;
-        new.launch.spin = 65.0 * TAU;
+        let u = |p: &Preset| scenario::min_speed(p, beta, 0.5, 12.0, 1e-3);
         Ok(Anchor {
             tilt_deg: tilt,
-            before: scenario::min_speed(&old, beta, 0.5, 12.0, 1e-3)?,
-            after: scenario::min_speed(&new, beta, 0.5, 12.0, 1e-3)?,
+            before: u(&old)?,
+            after: u(&new)?,
+            free_only: u(&free)?,
+            buoyancy_only: u(&buoyant)?,
         })
     })
 }
@@ -605,10 +614,22 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     if !c.is_empty() {
         ctx.write_csv("record_class.csv", &c)?;
     }
-    let mut c = Csv::new(&["tilt_deg", "u_min_before", "u_min_after"]);
+    let mut c = Csv::new(&[
+        "tilt_deg",
+        "u_min_before",
+        "u_min_free_only",
+        "u_min_buoyancy_only",
+        "u_min_after",
+    ]);
     for a in &f.anchors {
         let v = |u: Option<f64>| Val::F(u.unwrap_or(f64::NAN));
-        c.push(vec![a.tilt_deg.into(), v(a.before), v(a.after)]);
+        c.push(vec![
+            a.tilt_deg.into(),
+            v(a.before),
+            v(a.free_only),
+            v(a.buoyancy_only),
+            v(a.after),
+        ]);
     }
     ctx.write_csv("magic_angle.csv", &c)?;
     let mut c = Csv::new(&SHAPE_HEADER);
@@ -618,7 +639,6 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     }
     ctx.write_csv("presets.csv", &c)
 }
-
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     let pts = |g: &dyn Fn(&SpinRun) -> f64| -> Vec<(f64, f64)> {
@@ -742,7 +762,19 @@ fn lead_table(f: &Fidelity) -> String {
                 .filter(|p| hovercraft(&p.before, MAX_FINAL_SHARE, MAX_EARLIER_CONTACT).is_some())
                 .count()
         ),
-        format!("{glides} presets fail"),
+        if glides == 0 {
+            "none fails".to_owned()
+        } else {
+            format!(
+                "{glides} fail: {}",
+                f.presets
+                    .iter()
+                    .filter(|p| p.glide.is_some())
+                    .map(|p| p.stem)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        },
     ]);
     if let Some(r) = f.record.first() {
         rows.push(vec![
@@ -869,15 +901,37 @@ fn energy_section(f: &Fidelity) -> String {
         &rows,
     ));
     s.push_str(&format!(
-        "\nRosellini's U·v_n and the paper's v_n² pressure are larger going in than coming out, so \
-         each contact returns less vertical speed than it took: the bounce is damped and the stone \
-         settles into planing. Bocquet's U² is symmetric in the vertical and returns it all.\n\n\
+        "\nMean over the skips listed: vertical restitution {}, speed out/in {}. A law \
+         whose pressure grows with the normal velocity (Rosellini's U·v_n, the paper's v_n²) pushes \
+         harder going in than coming out, so every contact returns less vertical speed than it \
+         took and the exit angles shrink towards planing; Bocquet's U² with C_f = 1 loses the most \
+         speed per contact through friction.\n\n\
          The paper preset as printed (pressure along −N on receding faces) leaves a contact up to \
          {:.3}× faster than it entered ({} skips); read energy-consistently (each face's pressure \
          opposes its own normal motion) at most {:.3}× ({} skips).\n",
+        mean_by_law(&f.bounces, |b| b.restitution),
+        mean_by_law(&f.bounces, |b| b.speed_ratio),
         f.paper.as_printed, f.paper.skips_as_printed, f.paper.opposing, f.paper.skips_opposing
     ));
     s
+}
+
+/// "Rosellini 0.68, Paper 0.51, …": the mean of `g` over each law's bounces.
+fn mean_by_law(bounces: &[Bounce], g: impl Fn(&Bounce) -> f64) -> String {
+    ForceLaw::ALL
+        .iter()
+        .filter_map(|&law| {
+            let v: Vec<f64> = bounces.iter().filter(|b| b.law == law).map(&g).collect();
+            (!v.is_empty()).then(|| {
+                format!(
+                    "{} {}",
+                    law_name(law),
+                    sig(v.iter().sum::<f64>() / v.len() as f64, 3)
+                )
+            })
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn spin_section(f: &Fidelity) -> String {
@@ -1030,10 +1084,24 @@ fn anchor_section(f: &Fidelity) -> String {
     let rows: Vec<Vec<String>> = f
         .anchors
         .iter()
-        .map(|a| vec![sig(a.tilt_deg, 3), v(a.before), v(a.after)])
+        .map(|a| {
+            vec![
+                sig(a.tilt_deg, 3),
+                v(a.before),
+                v(a.free_only),
+                v(a.buoyancy_only),
+                v(a.after),
+            ]
+        })
         .collect();
     s.push_str(&md_table(
-        &["α (°)", "U_min before (m/s)", "U_min after (m/s)"],
+        &[
+            "α (°)",
+            "U_min before (m/s)",
+            "free, 65 rev/s only",
+            "buoyancy only",
+            "U_min after (m/s)",
+        ],
         &rows,
     ));
     s
