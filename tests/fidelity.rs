@@ -70,7 +70,14 @@ fn no_law_or_option_creates_energy_over_a_contact() {
     let mut printed = load("paper");
     printed.physics.pressure_sign = PressureSign::AsPrinted;
     printed.water.enabled = false;
-    let gain = worst_speed_ratio(&simulate(&printed).unwrap());
+    // As printed the stone speeds up inside the water and sinks there (no skip): compare every
+    // contact's end with its start (sinking ~1 cm lower gains only 2gh ≈ 0.2 m²/s² of v², ×1.001).
+    let s = simulate(&printed).unwrap();
+    let gain = s
+        .contacts
+        .iter()
+        .map(|c| DVec3::from_array(c.v_out).length() / DVec3::from_array(c.v_in).length())
+        .fold(0.0, f64::max);
     assert!(
         gain > 1.01,
         "the printed law should push receding faces forward: ×{gain}"
