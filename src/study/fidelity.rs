@@ -75,6 +75,19 @@ fn par_map<T: Send, R: Send>(
     items.into_par_iter().map(f).collect()
 }
 
+/// Column size of the near-field water in `--quick` runs (coarse: 15× cheaper than the presets'
+/// 2 cm, and still free of planing glides, §3).
+pub const QUICK_CELL: f64 = 0.05;
+
+/// A shipped preset, with its near-field water coarsened to [`QUICK_CELL`] in quick runs.
+fn shipped_for(stem: &str, quick: bool) -> Result<Preset, StudyError> {
+    let mut p = shipped(stem)?;
+    if quick && p.water.wavy_contact {
+        p.water.cell = p.water.cell.max(QUICK_CELL);
+    }
+    Ok(p)
+}
+
 fn shipped(stem: &str) -> Result<Preset, StudyError> {
     let (_, text) = SHIPPED
         .iter()
@@ -121,7 +134,7 @@ pub struct Bounce {
 }
 
 fn energy_budget(quick: bool) -> Result<Vec<Bounce>, StudyError> {
-    let base = before(&shipped("default")?);
+    let base = before(&shipped_for("default", quick)?);
     let mut out = Vec::new();
     for law in ForceLaw::ALL {
         let mut p = base.clone();
@@ -200,7 +213,7 @@ fn spin_revs(quick: bool) -> Vec<f64> {
 }
 
 fn spin_sweep(quick: bool) -> Result<(ThrowShape, Vec<SpinRun>), StudyError> {
-    let p = shipped("default")?;
+    let p = shipped_for("default", quick)?;
     let mut locked = p.clone();
     locked.physics.rotation = Rotation::Locked;
     let (_, locked) = shape(&locked)?;
@@ -264,7 +277,7 @@ fn axis_turns(p: &Preset, n: usize) -> Result<Vec<AxisTurn>, StudyError> {
 }
 
 fn precession(quick: bool) -> Result<Vec<AxisTurn>, StudyError> {
-    let mut p = shipped("default")?;
+    let mut p = shipped_for("default", quick)?;
     p.water.wavy_contact = false;
     let revs: Vec<f64> = if quick {
         vec![20.0, 80.0]
@@ -289,7 +302,7 @@ pub struct CurveRun {
 }
 
 fn curve(quick: bool) -> Result<Vec<CurveRun>, StudyError> {
-    let p = shipped("default")?;
+    let p = shipped_for("default", quick)?;
     let mut cases: Vec<(f64, bool)> = vec![(20.0, true), (-20.0, true), (20.0, false)];
     if !quick {
         cases.extend([(10.0, true), (-10.0, true), (40.0, true), (-40.0, true)]);
@@ -330,7 +343,7 @@ pub struct NearField {
 }
 
 fn near_field(quick: bool) -> Result<Vec<NearField>, StudyError> {
-    let mut p = shipped("default")?;
+    let mut p = shipped_for("default", quick)?;
     // A narrower lake than the preset's, the same for every cell (1 cm columns over 45 × 6 m would be
     // 2.7 M columns); the width does not reach the stone's near field.
     p.water.size = [45.0, 2.0];
@@ -451,7 +464,7 @@ fn presets(quick: bool) -> Result<Vec<PresetCheck>, StudyError> {
         .filter(|s| !quick || *s != "record_throw")
         .collect();
     par_map(stems, |stem| {
-        let p = shipped(stem)?;
+        let p = shipped_for(stem, quick)?;
         let (_, after) = shape(&p)?;
         let (_, before) = shape(&before(&p))?;
         Ok(PresetCheck {
@@ -860,7 +873,10 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
          revolution, buoyancy, wavy contact on 2 cm columns). Same throws.\n\n",
     );
     if ctx.quick {
-        s.push_str("*Quick run (`--quick`): coarse sweeps.*\n\n");
+        s.push_str(&format!(
+            "*Quick run (`--quick`): coarse sweeps, near-field water on {} cm columns.*\n\n",
+            QUICK_CELL * 100.0
+        ));
     }
     s.push_str(&lead_table(f));
     s.push_str(&energy_section(f));
