@@ -10,6 +10,7 @@
 pub mod contact;
 pub mod hydro;
 pub mod integrate;
+pub mod kernel;
 pub mod params;
 pub mod reference;
 pub mod scenario;

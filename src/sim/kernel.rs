@@ -1,0 +1,1359 @@
+//! The fast force kernel (issue 12): the per-face model of [`hydro::evaluate_reference`] (paper
+//! eqs. 11–26: clip each face by the water, pressure and friction per wetted face, their sums),
+//! organised so that only the faces the water touches are visited and the wholly wet ones run in
+//! vector lanes without clipping.
+//!
+//! - Locked attitude (ω = 0, or an orientation already cached): the faces are turned into world
+//!   axes once and sorted by their lowest vertex. Against the plane z = 0 the wholly wet faces are
+//!   then a prefix and the dry ones a suffix, both found by bisection; only the band between is
+//!   classified and clipped. A wavy surface bisects on its highest point and classifies the
+//!   candidates from the grid's heights (looked up once per vertex).
+//! - Free rotation: the water plane and the velocities are turned into the stone's own frame (no
+//!   vertex is rotated), and a hierarchy of bounding boxes (positions and normals, body frame)
+//!   culls the dry part and passes wholly wet boxes to the lanes unclassified.
+//! - [`lowest_clearance`] and [`underside_submerged`] search the same hierarchies, and return
+//!   exactly what the reference versions return (they evaluate the same floating-point
+//!   expressions for the candidates, and the bounds carry a margin far above rounding).
+//!
+//! The law itself is mirrored in lanes ([`lane_law`], the same operations in the same order as
+//! [`hydro::face_force`], so each face's force is bit-identical to it); [`fast_path_supports`]
+//! names every [`HydroParams`] field, so a new option does not compile until it is either
+//! implemented here or sent to the reference. Lanes are four wide whatever the machine, and no
+//! fused multiply-add is used, so the AVX2 and the plain x86-64 builds give identical bits.
+//!
+//! [`hydro::evaluate_reference`]: super::hydro::evaluate_reference
+//! [`hydro::face_force`]: super::hydro::face_force
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::contact::clip_triangle;
+use super::hydro::{FaceLoad, ForceSum, HydroParams, Pose, Surface};
+use super::params::ForceLaw;
+use super::stone::{Mesh, Stone};
+
+/// Width of the vector lanes (f64).
+pub const LANES: usize = 4;
+/// Most faces (or vertices) in a leaf of a hierarchy.
+const LEAF: usize = 16;
+const NO_CHILD: u32 = u32::MAX;
+
+/// True when the fast kernel implements every option of `hp`; otherwise [`hydro::evaluate`] uses
+/// the reference. Every field is named: a field added to [`HydroParams`] stops this compiling
+/// until it is handled (return false for any value the kernel does not implement).
+///
+/// [`hydro::evaluate`]: super::hydro::evaluate
+pub fn fast_path_supports(hp: &HydroParams) -> bool {
+    // The kernel takes these as they are: the lanes' law mirrors `face_force` for every law
+    // (tested bit for bit), ventilation either way, either pressure centre.
+    let HydroParams {
+        law,
+        lift: _,
+        friction: _,
+        density: _,
+        ventilated: _,
+        pressure_centre: _,
+    } = *hp;
+    match law {
+        ForceLaw::Paper | ForceLaw::Bocquet | ForceLaw::Rosellini => true,
+    }
+}
+
+/// `u·p` in the order glam evaluates `(R p).z` when `u` is R's last row: a vertex's height offset
+/// bit-identical to the reference's.
+#[inline(always)]
+fn dot(u: DVec3, p: DVec3) -> f64 {
+    (u.x * p.x + u.y * p.y) + u.z * p.z
+}
+
+/// A box of a hierarchy: positions (body frame) and, for faces, outward normals.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Node {
+    centre: DVec3,
+    half: DVec3,
+    ncentre: DVec3,
+    nhalf: DVec3,
+    start: u32,
+    end: u32,
+    left: u32,
+    right: u32,
+}
+
+impl Node {
+    /// Bounds of u·p over the box (exact arithmetic; callers add the margin).
+    #[inline]
+    fn bound(&self, u: DVec3) -> (f64, f64) {
+        let m = u.dot(self.centre);
+        let r = u.x.abs() * self.half.x + u.y.abs() * self.half.y + u.z.abs() * self.half.z;
+        (m - r, m + r)
+    }
+    #[inline]
+    fn normal_bound(&self, u: DVec3) -> (f64, f64) {
+        let m = u.dot(self.ncentre);
+        let r = u.x.abs() * self.nhalf.x + u.y.abs() * self.nhalf.y + u.z.abs() * self.nhalf.z;
+        (m - r, m + r)
+    }
+    fn is_leaf(&self) -> bool {
+        self.left == NO_CHILD
+    }
+    fn range(&self) -> std::ops::Range<usize> {
+        self.start as usize..self.end as usize
+    }
+}
+
+/// One item to place in a hierarchy: its sort key and the boxes of its points and normal.
+#[derive(Debug, Clone, Copy)]
+struct Item {
+    key: DVec3,
+    lo: DVec3,
+    hi: DVec3,
+    nlo: DVec3,
+    nhi: DVec3,
+}
+
+/// Median-split hierarchy over `items`: returns the nodes (root first) and the items' order.
+fn build_hierarchy(items: &[Item]) -> (Vec<Node>, Vec<usize>) {
+    let mut order: Vec<usize> = (0..items.len()).collect();
+    let mut nodes = Vec::new();
+    if !items.is_empty() {
+        build_node(items, &mut order, 0, items.len(), &mut nodes);
+    }
+    (nodes, order)
+}
+
+fn build_node(
+    items: &[Item],
+    order: &mut [usize],
+    start: usize,
+    end: usize,
+    nodes: &mut Vec<Node>,
+) -> u32 {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let (mut nlo, mut nhi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let (mut klo, mut khi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for &i in &order[start..end] {
+        let it = &items[i];
+        lo = lo.min(it.lo);
+        hi = hi.max(it.hi);
+        nlo = nlo.min(it.nlo);
+        nhi = nhi.max(it.nhi);
+        klo = klo.min(it.key);
+        khi = khi.max(it.key);
+    }
+    let index = nodes.len() as u32;
+    nodes.push(Node {
+        centre: (lo + hi) * 0.5,
+        half: (hi - lo) * 0.5,
+        ncentre: (nlo + nhi) * 0.5,
+        nhalf: (nhi - nlo) * 0.5,
+        start: start as u32,
+        end: end as u32,
+        left: NO_CHILD,
+        right: NO_CHILD,
+    });
+    if end - start <= LEAF {
+        return index;
+    }
+    let extent = khi - klo;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    order[start..end].sort_by(|&a, &b| {
+        items[a].key[axis]
+            .total_cmp(&items[b].key[axis])
+            .then(a.cmp(&b))
+    });
+    // Split at a multiple of the lane width so whole boxes fill the lanes.
+    let count = end - start;
+    let mid = start + ((count / 2).div_ceil(LANES) * LANES).min(count - 1);
+    let left = build_node(items, order, start, mid, nodes);
+    let right = build_node(items, order, mid, end, nodes);
+    nodes[index as usize].left = left;
+    nodes[index as usize].right = right;
+    index
+}
+
+/// Faces as struct-of-arrays: corners `pos[corner][axis]`, normal, area centroid, area and the
+/// mesh vertex indices of the corners.
+#[derive(Debug, Clone, PartialEq, Default)]
+struct FaceSoa {
+    pos: [[Vec<f64>; 3]; 3],
+    n: [Vec<f64>; 3],
+    g: [Vec<f64>; 3],
+    area: Vec<f64>,
+    verts: Vec<[u32; 3]>,
+}
+
+impl FaceSoa {
+    fn len(&self) -> usize {
+        self.area.len()
+    }
+
+    fn push(&mut self, corners: [DVec3; 3], normal: DVec3, area: f64, verts: [u32; 3]) {
+        let g = (corners[0] + corners[1] + corners[2]) * (1.0 / 3.0);
+        for (k, c) in corners.iter().enumerate() {
+            for a in 0..3 {
+                self.pos[k][a].push(c[a]);
+            }
+        }
+        for a in 0..3 {
+            self.n[a].push(normal[a]);
+            self.g[a].push(g[a]);
+        }
+        self.area.push(area);
+        self.verts.push(verts);
+    }
+
+    fn corner(&self, k: usize, i: usize) -> DVec3 {
+        DVec3::new(self.pos[k][0][i], self.pos[k][1][i], self.pos[k][2][i])
+    }
+    fn normal(&self, i: usize) -> DVec3 {
+        DVec3::new(self.n[0][i], self.n[1][i], self.n[2][i])
+    }
+    fn centroid(&self, i: usize) -> DVec3 {
+        DVec3::new(self.g[0][i], self.g[1][i], self.g[2][i])
+    }
+}
+
+/// The stone's mesh arranged for the kernel (body frame): faces and vertices in the order of
+/// their bounding hierarchies. Built once per stone ([`super::stone::Stone::new`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct KernelMesh {
+    faces: FaceSoa,
+    face_nodes: Vec<Node>,
+    vertices: Vec<DVec3>,
+    vertex_nodes: Vec<Node>,
+    vertex_count: usize,
+    /// Margin on the boxes' bounds of u·p, far above the rounding of u·p (m).
+    slack: f64,
+}
+
+/// Margin on the bounds of u·n (unit normals).
+const NORMAL_SLACK: f64 = 1e-12;
+
+impl KernelMesh {
+    /// From the centred mesh and its body-frame normals and areas.
+    pub fn new(mesh: &Mesh, normals: &[DVec3], areas: &[f64]) -> Self {
+        let items: Vec<Item> = mesh
+            .triangles
+            .iter()
+            .zip(normals)
+            .map(|(tri, &n)| {
+                let c = tri.map(|i| mesh.positions[i as usize]);
+                Item {
+                    key: (c[0] + c[1] + c[2]) * (1.0 / 3.0),
+                    lo: c[0].min(c[1]).min(c[2]),
+                    hi: c[0].max(c[1]).max(c[2]),
+                    nlo: n,
+                    nhi: n,
+                }
+            })
+            .collect();
+        let (face_nodes, face_order) = build_hierarchy(&items);
+        let mut faces = FaceSoa::default();
+        for &t in &face_order {
+            let tri = mesh.triangles[t];
+            faces.push(
+                tri.map(|i| mesh.positions[i as usize]),
+                normals[t],
+                areas[t],
+                tri,
+            );
+        }
+        let vitems: Vec<Item> = mesh
+            .positions
+            .iter()
+            .map(|&p| Item {
+                key: p,
+                lo: p,
+                hi: p,
+                nlo: DVec3::ZERO,
+                nhi: DVec3::ZERO,
+            })
+            .collect();
+        let (vertex_nodes, vertex_order) = build_hierarchy(&vitems);
+        let vertices = vertex_order.iter().map(|&i| mesh.positions[i]).collect();
+        let reach = mesh
+            .positions
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        Self {
+            faces,
+            face_nodes,
+            vertices,
+            vertex_nodes,
+            vertex_count: mesh.positions.len(),
+            slack: 1e-12 * reach.max(f64::MIN_POSITIVE),
+        }
+    }
+}
+
+/// Depth-first walk of a hierarchy with a fixed stack (balanced median splits: depth ≤ 40).
+struct Walk {
+    stack: [u32; 64],
+    len: usize,
+}
+
+impl Walk {
+    fn new(nodes: &[Node]) -> Self {
+        let mut w = Self {
+            stack: [0; 64],
+            len: 0,
+        };
+        if !nodes.is_empty() {
+            w.push(0);
+        }
+        w
+    }
+    fn push(&mut self, i: u32) {
+        if self.len < self.stack.len() {
+            self.stack[self.len] = i;
+            self.len += 1;
+        }
+    }
+    fn pop(&mut self) -> Option<u32> {
+        self.len = self.len.checked_sub(1)?;
+        Some(self.stack[self.len])
+    }
+    /// Pushes both children, `first` to be popped first.
+    fn push_pair(&mut self, first: u32, second: u32) {
+        self.push(second);
+        self.push(first);
+    }
+}
+
+/// The stone's orientation: R (stone → world) and u = Rᵀ ẑ, whose dot with a body point gives the
+/// point's height above the centre of mass exactly as (R p).z.
+fn frame(orientation: DQuat) -> (DMat3, DVec3) {
+    let rot = DMat3::from_quat(orientation);
+    let u = DVec3::new(rot.x_axis.z, rot.y_axis.z, rot.z_axis.z);
+    (rot, u)
+}
+
+/// Signed height of the stone's lowest vertex above the surface: equal to
+/// [`super::hydro::lowest_clearance_reference`].
+pub fn lowest_clearance(
+    km: &KernelMesh,
+    bounding_radius: f64,
+    position: DVec3,
+    orientation: DQuat,
+    surface: &dyn Surface,
+) -> f64 {
+    if position.z - bounding_radius > surface.max_height() {
+        return position.z - bounding_radius - surface.max_height();
+    }
+    let (rot, u) = frame(orientation);
+    let nodes = &km.vertex_nodes;
+    let mut walk = Walk::new(nodes);
+    if surface.is_flat() {
+        // Rounding is monotonic, so min (z + oᵢ) = z + min oᵢ.
+        let mut best = f64::INFINITY;
+        while let Some(i) = walk.pop() {
+            let node = &nodes[i as usize];
+            if node.bound(u).0 - km.slack > best {
+                continue;
+            }
+            if node.is_leaf() {
+                for &p in &km.vertices[node.range()] {
+                    best = best.min(dot(u, p));
+                }
+            } else {
+                let (l, r) = (node.left, node.right);
+                let (bl, br) = (nodes[l as usize].bound(u).0, nodes[r as usize].bound(u).0);
+                if bl <= br {
+                    walk.push_pair(l, r);
+                } else {
+                    walk.push_pair(r, l);
+                }
+            }
+        }
+        return (position.z + best) - 0.0;
+    }
+    // Wavy: d = (z + o) − η ≥ (z + o) − η_max, and both roundings are monotonic.
+    let max_h = surface.max_height();
+    let mut best = f64::INFINITY;
+    while let Some(i) = walk.pop() {
+        let node = &nodes[i as usize];
+        if (position.z + (node.bound(u).0 - km.slack)) - max_h > best {
+            continue;
+        }
+        if node.is_leaf() {
+            for &p in &km.vertices[node.range()] {
+                let w = position + rot * p;
+                best = best.min(w.z - surface.height(w.x, w.y));
+            }
+        } else {
+            let (l, r) = (node.left, node.right);
+            if nodes[l as usize].bound(u).0 <= nodes[r as usize].bound(u).0 {
+                walk.push_pair(l, r);
+            } else {
+                walk.push_pair(r, l);
+            }
+        }
+    }
+    best
+}
+
+/// True when every vertex of the faces whose outward normal points down is below the surface:
+/// equal to [`super::hydro::underside_submerged_reference`].
+pub fn underside_submerged(
+    km: &KernelMesh,
+    position: DVec3,
+    orientation: DQuat,
+    surface: &dyn Surface,
+) -> bool {
+    let (rot, u) = frame(orientation);
+    let flat = surface.is_flat();
+    let min_h = if flat { 0.0 } else { surface.min_height() };
+    let nodes = &km.face_nodes;
+    let f = &km.faces;
+    // Look for a witness: a downward face with a vertex at or above the surface.
+    let mut walk = Walk::new(nodes);
+    while let Some(i) = walk.pop() {
+        let node = &nodes[i as usize];
+        if node.normal_bound(u).0 - NORMAL_SLACK >= 0.0 {
+            continue; // no downward face
+        }
+        if position.z + (node.bound(u).1 + km.slack) < min_h {
+            continue; // every vertex surely under
+        }
+        if node.is_leaf() {
+            for t in node.range() {
+                if dot(u, f.normal(t)) >= 0.0 {
+                    continue;
+                }
+                for k in 0..3 {
+                    let p = f.corner(k, t);
+                    let dry = if flat {
+                        position.z + dot(u, p) >= 0.0
+                    } else {
+                        let w = position + rot * p;
+                        w.z >= surface.height(w.x, w.y)
+                    };
+                    if dry {
+                        return false;
+                    }
+                }
+            }
+        } else {
+            let (l, r) = (node.left, node.right);
+            // The higher box first: it more likely holds a dry vertex.
+            if nodes[l as usize].bound(u).1 >= nodes[r as usize].bound(u).1 {
+                walk.push_pair(l, r);
+            } else {
+                walk.push_pair(r, l);
+            }
+        }
+    }
+    // No witness: submerged when some face points down.
+    let mut walk = Walk::new(nodes);
+    while let Some(i) = walk.pop() {
+        let node = &nodes[i as usize];
+        if node.normal_bound(u).0 - NORMAL_SLACK >= 0.0 {
+            continue;
+        }
+        if node.is_leaf() {
+            if node.range().any(|t| dot(u, f.normal(t)) < 0.0) {
+                return true;
+            }
+        } else {
+            walk.push_pair(node.left, node.right);
+        }
+    }
+    false
+}
+
+/// Reusable state of the kernel: the sorted world-axis faces of the last held orientation, the
+/// per-vertex heights of a wavy surface, and index lists.
+#[derive(Debug, Clone, Default)]
+pub struct KernelScratch {
+    sorted: Option<Sorted>,
+    heights: VertexHeights,
+    wet: Vec<u32>,
+}
+
+/// Faces in world axes (offsets from the centre of mass) for one orientation, sorted by their
+/// lowest vertex; `prefmax[k]` is the highest vertex of faces 0..=k.
+#[derive(Debug, Clone)]
+struct Sorted {
+    orientation: DQuat,
+    faces: FaceSoa,
+    zmin: Vec<f64>,
+    prefmax: Vec<f64>,
+    /// Vertex offsets (world axes), mesh order.
+    offsets: Vec<DVec3>,
+}
+
+impl Sorted {
+    fn new(km: &KernelMesh, orientation: DQuat) -> Self {
+        let rot = DMat3::from_quat(orientation);
+        let b = &km.faces;
+        let n = b.len();
+        let mut offsets = vec![DVec3::ZERO; km.vertex_count];
+        for i in 0..n {
+            for k in 0..3 {
+                offsets[b.verts[i][k] as usize] = rot * b.corner(k, i);
+            }
+        }
+        let zmin_of = |i: usize| {
+            let v = b.verts[i];
+            offsets[v[0] as usize]
+                .z
+                .min(offsets[v[1] as usize].z)
+                .min(offsets[v[2] as usize].z)
+        };
+        let zmax_of = |i: usize| {
+            let v = b.verts[i];
+            offsets[v[0] as usize]
+                .z
+                .max(offsets[v[1] as usize].z)
+                .max(offsets[v[2] as usize].z)
+        };
+        let keys: Vec<(f64, f64)> = (0..n).map(|i| (zmin_of(i), zmax_of(i))).collect();
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &c| {
+            keys[a]
+                .0
+                .total_cmp(&keys[c].0)
+                .then(keys[a].1.total_cmp(&keys[c].1))
+                .then(a.cmp(&c))
+        });
+        let mut faces = FaceSoa::default();
+        let (mut zmin, mut prefmax) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let mut top = f64::NEG_INFINITY;
+        for &i in &order {
+            let v = b.verts[i];
+            faces.push(
+                v.map(|j| offsets[j as usize]),
+                rot * b.normal(i),
+                b.area[i],
+                v,
+            );
+            zmin.push(keys[i].0);
+            top = top.max(keys[i].1);
+            prefmax.push(top);
+        }
+        Self {
+            orientation,
+            faces,
+            zmin,
+            prefmax,
+            offsets,
+        }
+    }
+}
+
+/// Signed heights of the vertices above a wavy surface, each looked up once per evaluation.
+#[derive(Debug, Clone, Default)]
+struct VertexHeights {
+    d: Vec<f64>,
+    stamp: Vec<u32>,
+    generation: u32,
+}
+
+impl VertexHeights {
+    fn start(&mut self, count: usize) {
+        if self.d.len() != count {
+            self.d = vec![0.0; count];
+            self.stamp = vec![0; count];
+            self.generation = 0;
+        }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+    }
+
+    /// d = w.z − η(w.x, w.y) of vertex `i` at world point `world()`.
+    #[inline]
+    fn get(&mut self, i: u32, surface: &dyn Surface, world: impl FnOnce() -> DVec3) -> f64 {
+        let i = i as usize;
+        if self.stamp[i] != self.generation {
+            let w = world();
+            self.d[i] = w.z - surface.height(w.x, w.y);
+            self.stamp[i] = self.generation;
+        }
+        self.d[i]
+    }
+}
+
+/// The per-evaluation constants, in the frame of the face data.
+#[derive(Debug, Clone, Copy)]
+struct Ctx {
+    lift: f64,
+    friction: f64,
+    density: f64,
+    ventilated: bool,
+    /// Centre-of-mass velocity and angular velocity (frame), speed U.
+    v: DVec3,
+    w: DVec3,
+    speed: f64,
+    /// Unit horizontal flow direction (frame), with the planing centre.
+    dir: Option<DVec3>,
+    record: bool,
+    /// Frame → world (`None`: the frame is world axes).
+    rot: Option<DMat3>,
+    position: DVec3,
+}
+
+impl Ctx {
+    fn new(hp: &HydroParams, pose: &Pose, rot: Option<DMat3>, record: bool) -> Self {
+        let to_frame = |x: DVec3| match rot {
+            Some(r) => r.transpose() * x,
+            None => x,
+        };
+        let dir = hp.pressure_centre.and_then(|_| {
+            let h = DVec3::new(pose.velocity.x, pose.velocity.y, 0.0);
+            let len = h.length();
+            (len > 1e-9).then(|| to_frame(h / len))
+        });
+        Self {
+            lift: hp.lift,
+            friction: hp.friction,
+            density: hp.density,
+            ventilated: hp.ventilated,
+            v: to_frame(pose.velocity),
+            w: to_frame(pose.angular_velocity),
+            speed: pose.velocity.length(),
+            dir,
+            record,
+            rot,
+            position: pose.position,
+        }
+    }
+
+    /// A loaded face's record for the water: world centroid, F_z, footprint.
+    fn load(&self, centroid: DVec3, f: DVec3, normal: DVec3, area: f64) -> FaceLoad {
+        let (c, fz, nz) = match self.rot {
+            Some(r) => (r * centroid, (r * f).z, (r * normal).z),
+            None => (centroid, f.z, normal.z),
+        };
+        FaceLoad {
+            x: self.position.x + c.x,
+            y: self.position.y + c.y,
+            fz,
+            footprint: area * nz.abs(),
+        }
+    }
+}
+
+const PAPER: u8 = 0;
+const BOCQUET: u8 = 1;
+const ROSELLINI: u8 = 2;
+
+fn law_code(law: ForceLaw) -> u8 {
+    match law {
+        ForceLaw::Paper => PAPER,
+        ForceLaw::Bocquet => BOCQUET,
+        ForceLaw::Rosellini => ROSELLINI,
+    }
+}
+
+/// [`super::hydro::face_force`] in `N` lanes, the same operations in the same order: the force on
+/// faces of normal n, wetted area S, local velocity v; `false` in the mask where it is zero.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)]
+fn lane_law<const N: usize, const LAW: u8>(
+    c: &Ctx,
+    n: &[[f64; N]; 3],
+    area: &[f64; N],
+    v: &[[f64; N]; 3],
+) -> ([[f64; N]; 3], [bool; N]) {
+    let mut f = [[0.0; N]; 3];
+    let mut nonzero = [false; N];
+    for l in 0..N {
+        let (nx, ny, nz) = (n[0][l], n[1][l], n[2][l]);
+        let (vx, vy, vz) = (v[0][l], v[1][l], v[2][l]);
+        let vn = (vx * nx + vy * ny) + vz * nz;
+        let half_rho_s = 0.5 * c.density * area[l];
+        let (tx, ty, tz) = (vx - nx * vn, vy - ny * vn, vz - nz * vn);
+        let vt_len = ((tx * tx + ty * ty) + tz * tz).sqrt();
+        let (pressure, friction) = match LAW {
+            PAPER => (
+                c.lift * half_rho_s * vn * vn,
+                c.friction * half_rho_s * vt_len * vt_len,
+            ),
+            BOCQUET => (
+                c.lift * half_rho_s * c.speed * c.speed,
+                c.friction * half_rho_s * c.speed * c.speed,
+            ),
+            _ => (
+                c.lift * c.density * area[l] * c.speed * vn.max(0.0),
+                c.friction * half_rho_s * vt_len * vt_len,
+            ),
+        };
+        let (mut fx, mut fy, mut fz) = (-nx * pressure, -ny * pressure, -nz * pressure);
+        let q = friction / vt_len;
+        if vt_len > 0.0 {
+            fx -= tx * q;
+            fy -= ty * q;
+            fz -= tz * q;
+        }
+        let zero = c.ventilated && vn <= 0.0;
+        f[0][l] = if zero { 0.0 } else { fx };
+        f[1][l] = if zero { 0.0 } else { fy };
+        f[2][l] = if zero { 0.0 } else { fz };
+        nonzero[l] = !zero && (fx != 0.0 || fy != 0.0 || fz != 0.0);
+    }
+    (f, nonzero)
+}
+
+/// Running sums in `N` lanes (frame axes).
+#[derive(Debug, Clone, Copy)]
+struct LaneAcc<const N: usize> {
+    force: [[f64; N]; 3],
+    torque: [[f64; N]; 3],
+    area: [f64; N],
+    /// Planing: Σ pressure force, Σ |pressure|, Σ |pressure|·s, extent of s.
+    pressure: [[f64; N]; 3],
+    weight: [f64; N],
+    moment: [f64; N],
+    s_min: [f64; N],
+    s_max: [f64; N],
+}
+
+impl<const N: usize> Default for LaneAcc<N> {
+    fn default() -> Self {
+        Self {
+            force: [[0.0; N]; 3],
+            torque: [[0.0; N]; 3],
+            area: [0.0; N],
+            pressure: [[0.0; N]; 3],
+            weight: [0.0; N],
+            moment: [0.0; N],
+            s_min: [f64::INFINITY; N],
+            s_max: [f64::NEG_INFINITY; N],
+        }
+    }
+}
+
+/// The sums over all faces (frame axes).
+#[derive(Debug, Clone, Copy)]
+struct Acc {
+    force: DVec3,
+    torque: DVec3,
+    area: f64,
+    pressure: DVec3,
+    weight: f64,
+    moment: f64,
+    s_min: f64,
+    s_max: f64,
+}
+
+impl Default for Acc {
+    fn default() -> Self {
+        Self {
+            force: DVec3::ZERO,
+            torque: DVec3::ZERO,
+            area: 0.0,
+            pressure: DVec3::ZERO,
+            weight: 0.0,
+            moment: 0.0,
+            s_min: f64::INFINITY,
+            s_max: f64::NEG_INFINITY,
+        }
+    }
+}
+
+impl Acc {
+    fn add_lanes<const N: usize>(&mut self, la: &LaneAcc<N>) {
+        for l in 0..N {
+            let at = |a: &[[f64; N]; 3]| DVec3::new(a[0][l], a[1][l], a[2][l]);
+            self.force += at(&la.force);
+            self.torque += at(&la.torque);
+            self.area += la.area[l];
+            self.pressure += at(&la.pressure);
+            self.weight += la.weight[l];
+            self.moment += la.moment[l];
+            self.s_min = self.s_min.min(la.s_min[l]);
+            self.s_max = self.s_max.max(la.s_max[l]);
+        }
+    }
+
+    fn extend(&mut self, s: f64) {
+        self.s_min = self.s_min.min(s);
+        self.s_max = self.s_max.max(s);
+    }
+
+    /// Torque added by moving the pressure's resultant along `dir` to the planing centre
+    /// (the reference's `Planing::torque_shift`).
+    fn planing_shift(&self, fraction: f64, dir: DVec3) -> DVec3 {
+        if !(self.weight > 0.0 && self.s_max >= self.s_min) {
+            return DVec3::ZERO;
+        }
+        let target = self.s_min + fraction * (self.s_max - self.s_min);
+        let shift = target - self.moment / self.weight;
+        (dir * shift).cross(self.pressure)
+    }
+}
+
+/// The faces of `N` lanes: normal, area, the point the load acts at (offset from the centre of
+/// mass: the wetted centroid) and whether the lane is wholly wet (its corners bound the wetted
+/// length) or clipped (the caller extends the wetted length).
+struct Lanes<const N: usize> {
+    n: [[f64; N]; 3],
+    g: [[f64; N]; 3],
+    area: [f64; N],
+}
+
+/// Where a chunk of `N` faces comes from.
+trait Source<const N: usize>: Copy {
+    fn at(self, col: &[f64]) -> [f64; N];
+    fn index(self, l: usize) -> usize;
+}
+
+#[derive(Clone, Copy)]
+struct Contiguous(usize);
+impl<const N: usize> Source<N> for Contiguous {
+    #[inline(always)]
+    fn at(self, col: &[f64]) -> [f64; N] {
+        let mut out = [0.0; N];
+        out.copy_from_slice(&col[self.0..self.0 + N]);
+        out
+    }
+    #[inline(always)]
+    fn index(self, l: usize) -> usize {
+        self.0 + l
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Gathered<const N: usize>([usize; N]);
+impl<const N: usize> Source<N> for Gathered<N> {
+    #[inline(always)]
+    fn at(self, col: &[f64]) -> [f64; N] {
+        self.0.map(|i| col[i])
+    }
+    #[inline(always)]
+    fn index(self, l: usize) -> usize {
+        self.0[l]
+    }
+}
+
+#[inline(always)]
+fn load<const N: usize, S: Source<N>>(f: &FaceSoa, s: S) -> Lanes<N> {
+    Lanes {
+        n: [s.at(&f.n[0]), s.at(&f.n[1]), s.at(&f.n[2])],
+        g: [s.at(&f.g[0]), s.at(&f.g[1]), s.at(&f.g[2])],
+        area: s.at(&f.area),
+    }
+}
+
+/// Law and sums for `N` faces; returns the mask of loaded faces and their forces.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)]
+fn contribute<const N: usize, const LAW: u8, const ROT: bool>(
+    c: &Ctx,
+    x: &Lanes<N>,
+    acc: &mut LaneAcc<N>,
+) -> ([bool; N], [[f64; N]; 3]) {
+    let g = &x.g;
+    let mut v = [[c.v.x; N], [c.v.y; N], [c.v.z; N]];
+    if ROT {
+        let w = c.w;
+        for l in 0..N {
+            v[0][l] = c.v.x + (w.y * g[2][l] - g[1][l] * w.z);
+            v[1][l] = c.v.y + (w.z * g[0][l] - g[2][l] * w.x);
+            v[2][l] = c.v.z + (w.x * g[1][l] - g[0][l] * w.y);
+        }
+    }
+    let (f, nonzero) = lane_law::<N, LAW>(c, &x.n, &x.area, &v);
+    let mut loaded = [false; N];
+    for l in 0..N {
+        loaded[l] = nonzero[l] && x.area[l] > 0.0;
+        let keep = |a: f64| if loaded[l] { a } else { 0.0 };
+        let (fx, fy, fz) = (f[0][l], f[1][l], f[2][l]);
+        let (gx, gy, gz) = (g[0][l], g[1][l], g[2][l]);
+        acc.force[0][l] += keep(fx);
+        acc.force[1][l] += keep(fy);
+        acc.force[2][l] += keep(fz);
+        acc.torque[0][l] += keep(gy * fz - fy * gz);
+        acc.torque[1][l] += keep(gz * fx - fz * gx);
+        acc.torque[2][l] += keep(gx * fy - fx * gy);
+        acc.area[l] += keep(x.area[l]);
+    }
+    if let Some(d) = c.dir {
+        for l in 0..N {
+            let keep = |a: f64| if loaded[l] { a } else { 0.0 };
+            let (nx, ny, nz) = (x.n[0][l], x.n[1][l], x.n[2][l]);
+            let pn = (f[0][l] * nx + f[1][l] * ny) + f[2][l] * nz;
+            acc.pressure[0][l] += keep(nx * pn);
+            acc.pressure[1][l] += keep(ny * pn);
+            acc.pressure[2][l] += keep(nz * pn);
+            let w = pn.abs();
+            acc.weight[l] += keep(w);
+            acc.moment[l] += keep(w * ((g[0][l] * d.x + g[1][l] * d.y) + g[2][l] * d.z));
+        }
+    }
+    (loaded, f)
+}
+
+/// Wholly wet faces from `s`: law, sums, the planing extent over their corners, the records.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)]
+fn wet_chunk<const N: usize, const LAW: u8, const ROT: bool, S: Source<N>>(
+    c: &Ctx,
+    faces: &FaceSoa,
+    s: S,
+    acc: &mut LaneAcc<N>,
+    loads: &mut Vec<FaceLoad>,
+) {
+    let x = load(faces, s);
+    let (loaded, f) = contribute::<N, LAW, ROT>(c, &x, acc);
+    if let Some(d) = c.dir {
+        for k in 0..3 {
+            let (px, py, pz) = (
+                s.at(&faces.pos[k][0]),
+                s.at(&faces.pos[k][1]),
+                s.at(&faces.pos[k][2]),
+            );
+            for l in 0..N {
+                let sv = (px[l] * d.x + py[l] * d.y) + pz[l] * d.z;
+                acc.s_min[l] = acc.s_min[l].min(if loaded[l] { sv } else { f64::INFINITY });
+                acc.s_max[l] = acc.s_max[l].max(if loaded[l] { sv } else { f64::NEG_INFINITY });
+            }
+        }
+    }
+    if c.record {
+        for l in 0..N {
+            if loaded[l] {
+                let fl = DVec3::new(f[0][l], f[1][l], f[2][l]);
+                let i = s.index(l);
+                loads.push(c.load(faces.centroid(i), fl, faces.normal(i), faces.area[i]));
+            }
+        }
+    }
+}
+
+/// The wholly wet faces `range` (contiguous) and `list` (gathered) into `acc`.
+#[inline(always)]
+fn wet_faces_body<const LAW: u8, const ROT: bool>(
+    c: &Ctx,
+    faces: &FaceSoa,
+    range: std::ops::Range<usize>,
+    list: &[u32],
+    acc: &mut Acc,
+    loads: &mut Vec<FaceLoad>,
+) {
+    let mut la = LaneAcc::<LANES>::default();
+    let mut i = range.start;
+    while i + LANES <= range.end {
+        wet_chunk::<LANES, LAW, ROT, _>(c, faces, Contiguous(i), &mut la, loads);
+        i += LANES;
+    }
+    let mut chunks = list.chunks_exact(LANES);
+    for ch in chunks.by_ref() {
+        let idx = [ch[0], ch[1], ch[2], ch[3]].map(|j| j as usize);
+        wet_chunk::<LANES, LAW, ROT, _>(c, faces, Gathered(idx), &mut la, loads);
+    }
+    let mut one = LaneAcc::<1>::default();
+    for j in (i..range.end).chain(chunks.remainder().iter().map(|&j| j as usize)) {
+        wet_chunk::<1, LAW, ROT, _>(c, faces, Gathered([j]), &mut one, loads);
+    }
+    acc.add_lanes(&la);
+    acc.add_lanes(&one);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn wet_faces_avx2<const LAW: u8, const ROT: bool>(
+    c: &Ctx,
+    faces: &FaceSoa,
+    range: std::ops::Range<usize>,
+    list: &[u32],
+    acc: &mut Acc,
+    loads: &mut Vec<FaceLoad>,
+) {
+    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads)
+}
+
+fn wet_faces_portable<const LAW: u8, const ROT: bool>(
+    c: &Ctx,
+    faces: &FaceSoa,
+    range: std::ops::Range<usize>,
+    list: &[u32],
+    acc: &mut Acc,
+    loads: &mut Vec<FaceLoad>,
+) {
+    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads)
+}
+
+/// Wholly wet faces, on the widest vector unit the machine has (same bits on every one).
+fn wet_faces<const LAW: u8, const ROT: bool>(
+    c: &Ctx,
+    faces: &FaceSoa,
+    range: std::ops::Range<usize>,
+    list: &[u32],
+    acc: &mut Acc,
+    loads: &mut Vec<FaceLoad>,
+) {
+    if range.is_empty() && list.is_empty() {
+        return;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU supports AVX2 (checked just above); the function is otherwise safe.
+        unsafe { wet_faces_avx2::<LAW, ROT>(c, faces, range, list, acc, loads) };
+        return;
+    }
+    wet_faces_portable::<LAW, ROT>(c, faces, range, list, acc, loads)
+}
+
+/// A face crossing the surface: clipped (paper Fig. 5), then the law for its wetted part.
+fn band_face<const LAW: u8, const ROT: bool>(
+    c: &Ctx,
+    faces: &FaceSoa,
+    i: usize,
+    d: [f64; 3],
+    acc: &mut Acc,
+    loads: &mut Vec<FaceLoad>,
+) {
+    let normal = faces.normal(i);
+    if !ROT && c.ventilated && normal.dot(c.v) <= 0.0 {
+        return; // receding without rotation: carries nothing
+    }
+    let p = [faces.corner(0, i), faces.corner(1, i), faces.corner(2, i)];
+    let Some(patch) = clip_triangle(p, d) else {
+        return;
+    };
+    if patch.area <= 0.0 {
+        return;
+    }
+    let x = Lanes::<1> {
+        n: [[normal.x], [normal.y], [normal.z]],
+        g: [[patch.centroid.x], [patch.centroid.y], [patch.centroid.z]],
+        area: [patch.area],
+    };
+    let mut one = LaneAcc::<1>::default();
+    let (loaded, f) = contribute::<1, LAW, ROT>(c, &x, &mut one);
+    if !loaded[0] {
+        return;
+    }
+    acc.add_lanes(&one);
+    if let Some(dir) = c.dir {
+        for k in 0..3 {
+            let j = (k + 1) % 3;
+            if d[k] <= 0.0 {
+                acc.extend(p[k].dot(dir));
+            }
+            if (d[k] <= 0.0) != (d[j] <= 0.0) {
+                let t = d[k] / (d[k] - d[j]);
+                acc.extend((p[k] + (p[j] - p[k]) * t).dot(dir));
+            }
+        }
+    }
+    if c.record {
+        let fl = DVec3::new(f[0][0], f[1][0], f[2][0]);
+        loads.push(c.load(patch.centroid, fl, normal, patch.area));
+    }
+}
+
+/// A face whose corners have signed heights `d`: wholly wet (no clipping), crossing, or dry.
+/// Returns whether any corner is wet.
+#[inline]
+fn classify<const LAW: u8, const ROT: bool>(
+    c: &Ctx,
+    faces: &FaceSoa,
+    i: usize,
+    d: [f64; 3],
+    wet: &mut Vec<u32>,
+    acc: &mut Acc,
+    loads: &mut Vec<FaceLoad>,
+) -> bool {
+    let n_wet = d.iter().filter(|&&x| x <= 0.0).count();
+    match n_wet {
+        0 => false,
+        3 => {
+            wet.push(i as u32);
+            true
+        }
+        _ => {
+            band_face::<LAW, ROT>(c, faces, i, d, acc, loads);
+            true
+        }
+    }
+}
+
+/// Forces and torque of the water on the stone: the fast path of [`super::hydro::evaluate`]
+/// (callers check [`fast_path_supports`] first).
+pub fn evaluate(
+    stone: &Stone,
+    hp: &HydroParams,
+    pose: &Pose,
+    surface: &dyn Surface,
+    ks: &mut KernelScratch,
+    loads: &mut Vec<FaceLoad>,
+    record: bool,
+) -> ForceSum {
+    if record {
+        loads.clear();
+    }
+    let km = &stone.kernel;
+    if pose.position.z - stone.bounding_radius > surface.max_height() {
+        return ForceSum::default();
+    }
+    let rot = pose.angular_velocity != DVec3::ZERO;
+    let held = ks.sorted.as_ref().map(|s| s.orientation) == Some(pose.orientation);
+    let call = Call {
+        hp,
+        pose,
+        surface,
+        record,
+    };
+    match (law_code(hp.law), rot, held || !rot) {
+        (PAPER, false, _) => sorted_path::<PAPER, false>(km, &call, ks, loads),
+        (BOCQUET, false, _) => sorted_path::<BOCQUET, false>(km, &call, ks, loads),
+        (_, false, _) => sorted_path::<ROSELLINI, false>(km, &call, ks, loads),
+        (PAPER, true, true) => sorted_path::<PAPER, true>(km, &call, ks, loads),
+        (BOCQUET, true, true) => sorted_path::<BOCQUET, true>(km, &call, ks, loads),
+        (_, true, true) => sorted_path::<ROSELLINI, true>(km, &call, ks, loads),
+        (PAPER, true, false) => body_path::<PAPER>(km, &call, ks, loads),
+        (BOCQUET, true, false) => body_path::<BOCQUET>(km, &call, ks, loads),
+        (_, true, false) => body_path::<ROSELLINI>(km, &call, ks, loads),
+    }
+}
+
+/// The arguments of one evaluation.
+struct Call<'a> {
+    hp: &'a HydroParams,
+    pose: &'a Pose,
+    surface: &'a dyn Surface,
+    record: bool,
+}
+
+/// The sums as a [`ForceSum`] (world axes).
+fn finish(call: &Call, c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
+    let mut torque = acc.torque;
+    if let (Some(fraction), Some(dir)) = (call.hp.pressure_centre, c.dir) {
+        torque += acc.planing_shift(fraction, dir);
+    }
+    let to_world = |x: DVec3| match c.rot {
+        Some(r) => r * x,
+        None => x,
+    };
+    ForceSum {
+        force: to_world(acc.force),
+        torque: to_world(torque),
+        wetted_area: acc.area,
+        in_contact,
+    }
+}
+
+/// Held orientation: faces sorted by height in world axes.
+fn sorted_path<const LAW: u8, const ROT: bool>(
+    km: &KernelMesh,
+    call: &Call,
+    ks: &mut KernelScratch,
+    loads: &mut Vec<FaceLoad>,
+) -> ForceSum {
+    let pose = call.pose;
+    if ks.sorted.as_ref().map(|s| s.orientation) != Some(pose.orientation) {
+        ks.sorted = Some(Sorted::new(km, pose.orientation));
+    }
+    let KernelScratch {
+        sorted,
+        heights,
+        wet,
+    } = ks;
+    let Some(s) = sorted.as_ref() else {
+        return ForceSum::default();
+    };
+    let c = Ctx::new(call.hp, pose, None, call.record);
+    let z = pose.position.z;
+    let faces = &s.faces;
+    let mut acc = Acc::default();
+    wet.clear();
+    let in_contact;
+    if call.surface.is_flat() {
+        // Some corner wet ⇔ the lowest is; wholly wet ⇔ the highest is (rounding is monotonic).
+        let k2 = s.zmin.partition_point(|&m| z + m <= 0.0);
+        let k1 = s.prefmax[..k2].partition_point(|&m| z + m <= 0.0);
+        in_contact = k2 > 0;
+        for i in k1..k2 {
+            let d = [0, 1, 2].map(|k| z + faces.pos[k][2][i]);
+            classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
+        }
+        wet_faces::<LAW, ROT>(&c, faces, 0..k1, wet, &mut acc, loads);
+    } else {
+        let max_h = call.surface.max_height();
+        let k2 = s.zmin.partition_point(|&m| (z + m) - max_h <= 0.0);
+        heights.start(km.vertex_count);
+        let mut any = false;
+        for i in 0..k2 {
+            let d = faces.verts[i]
+                .map(|v| heights.get(v, call.surface, || pose.position + s.offsets[v as usize]));
+            any |= classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
+        }
+        in_contact = any;
+        wet_faces::<LAW, ROT>(&c, faces, 0..0, wet, &mut acc, loads);
+    }
+    if !in_contact {
+        return ForceSum::default();
+    }
+    finish(call, &c, &acc, true)
+}
+
+/// Free rotation: body frame, boxes cull.
+fn body_path<const LAW: u8>(
+    km: &KernelMesh,
+    call: &Call,
+    ks: &mut KernelScratch,
+    loads: &mut Vec<FaceLoad>,
+) -> ForceSum {
+    let pose = call.pose;
+    let (rot, u) = frame(pose.orientation);
+    let c = Ctx::new(call.hp, pose, Some(rot), call.record);
+    let surface = call.surface;
+    let flat = surface.is_flat();
+    let (max_h, min_h) = if flat {
+        (0.0, 0.0)
+    } else {
+        (surface.max_height(), surface.min_height())
+    };
+    let z = pose.position.z;
+    let faces = &km.faces;
+    let nodes = &km.face_nodes;
+    let KernelScratch { heights, wet, .. } = ks;
+    wet.clear();
+    if !flat {
+        heights.start(km.vertex_count);
+    }
+    let mut acc = Acc::default();
+    let mut in_contact = false;
+    let mut walk = Walk::new(nodes);
+    while let Some(ni) = walk.pop() {
+        let node = &nodes[ni as usize];
+        let (lb, ub) = node.bound(u);
+        if (z + (lb - km.slack)) - max_h > 0.0 {
+            continue; // wholly dry
+        }
+        if (z + (ub + km.slack)) - min_h <= 0.0 {
+            in_contact = true;
+            wet_faces::<LAW, true>(&c, faces, node.range(), &[], &mut acc, loads);
+            continue;
+        }
+        if !node.is_leaf() {
+            walk.push_pair(node.left, node.right);
+            continue;
+        }
+        for i in node.range() {
+            let d = if flat {
+                [0, 1, 2].map(|k| z + dot(u, faces.corner(k, i)))
+            } else {
+                let (verts, position) = (faces.verts[i], pose.position);
+                [0, 1, 2]
+                    .map(|k| heights.get(verts[k], surface, || position + rot * faces.corner(k, i)))
+            };
+            in_contact |= classify::<LAW, true>(&c, faces, i, d, wet, &mut acc, loads);
+        }
+    }
+    wet_faces::<LAW, true>(&c, faces, 0..0, wet, &mut acc, loads);
+    if !in_contact {
+        return ForceSum::default();
+    }
+    finish(call, &c, &acc, true)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::hydro::face_force;
+
+    /// A tiny deterministic generator (xorshift) for the tests.
+    fn rng(seed: &mut u64) -> f64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// The lanes' law is the reference's, bit for bit, for every law and ventilation.
+    #[test]
+    fn lane_law_is_face_force_bit_for_bit() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        for law in ForceLaw::ALL {
+            for ventilated in [true, false] {
+                let (lift, friction) = law.default_coefficients();
+                let hp = HydroParams {
+                    law,
+                    lift,
+                    friction,
+                    density: 1000.0,
+                    ventilated,
+                    pressure_centre: None,
+                };
+                for _ in 0..500 {
+                    let mut r = || 2.0 * rng(&mut seed) - 1.0;
+                    let normal = DVec3::new(r(), r(), r()).normalize();
+                    let v = DVec3::new(10.0 * r(), 3.0 * r(), 2.0 * r());
+                    let area = 1e-4 * (1.0 + r());
+                    let pose = Pose {
+                        position: DVec3::ZERO,
+                        velocity: v,
+                        orientation: DQuat::IDENTITY,
+                        angular_velocity: DVec3::ZERO,
+                    };
+                    let c = Ctx::new(&hp, &pose, None, false);
+                    let speed = v.length();
+                    let expect = face_force(&hp, normal, area, v, speed);
+                    let code = law_code(law);
+                    let n = [[normal.x], [normal.y], [normal.z]];
+                    let vv = [[v.x], [v.y], [v.z]];
+                    let (f, nonzero) = match code {
+                        PAPER => lane_law::<1, PAPER>(&c, &n, &[area], &vv),
+                        BOCQUET => lane_law::<1, BOCQUET>(&c, &n, &[area], &vv),
+                        _ => lane_law::<1, ROSELLINI>(&c, &n, &[area], &vv),
+                    };
+                    let got = DVec3::new(f[0][0], f[1][0], f[2][0]);
+                    assert_eq!(got.to_array(), expect.to_array(), "{law:?} {ventilated}");
+                    assert_eq!(nonzero[0], expect != DVec3::ZERO);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn hierarchy_boxes_hold_their_items() {
+        use crate::sim::params::{Shape, StoneParams};
+        let stone = crate::sim::stone::Stone::new(&StoneParams {
+            shape: Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            mass: 0.1,
+            segments: 40,
+        })
+        .unwrap();
+        let km = &stone.kernel;
+        assert_eq!(km.faces.len(), stone.mesh.triangles.len());
+        assert_eq!(km.vertices.len(), stone.mesh.positions.len());
+        for node in &km.face_nodes {
+            for i in node.range() {
+                for k in 0..3 {
+                    let p = km.faces.corner(k, i);
+                    let off = (p - node.centre).abs() - node.half;
+                    assert!(off.max_element() <= km.slack, "corner outside its box");
+                }
+                let off = (km.faces.normal(i) - node.ncentre).abs() - node.nhalf;
+                assert!(off.max_element() <= NORMAL_SLACK);
+            }
+            if !node.is_leaf() {
+                let (l, r) = (
+                    &km.face_nodes[node.left as usize],
+                    &km.face_nodes[node.right as usize],
+                );
+                assert_eq!(
+                    (l.start, l.end, r.start, r.end),
+                    (node.start, r.start, l.end, node.end)
+                );
+            } else {
+                assert!(node.end - node.start <= LEAF as u32);
+            }
+        }
+    }
+}
