@@ -9,6 +9,10 @@
 //! Instruction counts (noise-free): `FORCE_COUNT=pose,segments,path,reps` runs only that many
 //! evaluations (path: fast, reference, clear, clear_ref, sink, sink_ref) and exits; run it under
 //! `valgrind --tool=callgrind` with reps 0 and N and divide the difference by N.
+//! Whole throws: `FORCE_THROW=preset.ron,segments,reps` runs the preset with the water off at that
+//! mesh and prints the real-time factor (simulated / wall seconds, best of the repeats) and the
+//! result; `FORCE_MESH=1` prints, for the default throw and the accuracy study's three throws, the
+//! distance and skips per mesh and tolerance against a 192-segment, tolerance-1e-8 run.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -19,8 +23,10 @@ use stoneskip::sim::hydro::{
     evaluate, evaluate_reference, lowest_clearance, lowest_clearance_reference,
     underside_submerged, underside_submerged_reference, FlatSurface, HydroParams, Pose, Scratch,
 };
-use stoneskip::sim::params::{Physics, Shape, StoneParams};
+use stoneskip::sim::params::{Integrator, Physics, Preset, Shape, StoneParams};
 use stoneskip::sim::stone::Stone;
+use stoneskip::sim::{simulate, Summary};
+use stoneskip::study::throws;
 
 const POSES: [&str; 4] = ["grazing", "mid", "deep", "free"];
 
@@ -118,9 +124,104 @@ fn count_mode(spec: &str) {
     println!("{acc}");
 }
 
+/// Runs `p` `reps` times; the best wall time (s) and the summary.
+fn time_throw(p: &Preset, reps: u32) -> (f64, Summary) {
+    let mut best = f64::INFINITY;
+    let mut summary = None;
+    for _ in 0..reps.max(1) {
+        let t = Instant::now();
+        let s = simulate(black_box(p)).expect("runs");
+        best = best.min(t.elapsed().as_secs_f64());
+        summary = Some(s);
+    }
+    (best, summary.expect("at least one run"))
+}
+
+fn describe(s: &Summary) -> String {
+    format!(
+        "{} skips, distance {:.12} m, {:.4} s, {} steps, {} force evaluations, {:?}",
+        s.skips, s.distance, s.final_time, s.steps, s.force_evals, s.outcome
+    )
+}
+
+fn throw_mode(spec: &str) {
+    let parts: Vec<&str> = spec.split(',').collect();
+    let [path, segments, reps] = parts[..] else {
+        eprintln!("FORCE_THROW=preset.ron,segments,reps");
+        std::process::exit(2);
+    };
+    let mut p = stoneskip::preset::load(std::path::Path::new(path)).expect("preset");
+    p.water.enabled = false;
+    p.stone.segments = segments.parse().expect("segments");
+    let (wall, s) = time_throw(&p, reps.parse().expect("reps"));
+    println!(
+        "{path} at {segments} segments, water off: {:.2} ms, {:.0}x real time; {}",
+        wall * 1e3,
+        s.final_time / wall,
+        describe(&s)
+    );
+}
+
+/// Distance and skips per mesh and tolerance against a fine reference, for the default throw and
+/// the accuracy study's throws.
+fn mesh_mode() {
+    let mut cases: Vec<(String, Preset)> = Vec::new();
+    let mut default = Preset::default();
+    default.water.enabled = false;
+    cases.push(("default".into(), default));
+    let base = throws::base(Integrator::Adaptive, 0.005, 1e-6);
+    for t in throws::THROWS {
+        cases.push((t.key.into(), throws::preset(&t, &base).expect("throw")));
+    }
+    for (name, case) in &cases {
+        let with = |segments: u32, tolerance: f64| {
+            let mut p = case.clone();
+            p.stone.segments = segments;
+            p.physics.tolerance = tolerance;
+            if name != "default" {
+                // The study throws start just above the water: place each mesh the same way.
+                let t = throws::THROWS
+                    .iter()
+                    .find(|t| t.key == name)
+                    .expect("known throw");
+                let b = Preset {
+                    stone: p.stone,
+                    physics: p.physics,
+                    ..throws::base(Integrator::Adaptive, 0.005, tolerance)
+                };
+                p = throws::preset(t, &b).expect("throw");
+            }
+            p
+        };
+        let (_, fine) = time_throw(&with(192, 1e-8), 1);
+        println!("{name}: 192 segments, tolerance 1e-8: {}", describe(&fine));
+        for segments in [32, 48, 64, 96, 128, 192] {
+            for tolerance in [1e-6, 1e-5, 3e-5] {
+                let (wall, s) = time_throw(&with(segments, tolerance), 1);
+                println!(
+                    "  {segments:>3} segments, tol {tolerance:.0e}: distance {:+.3} % off, skips {} ({:+}), {} evals, {:.0}x real time",
+                    100.0 * (s.distance - fine.distance) / fine.distance,
+                    s.skips,
+                    s.skips as i64 - fine.skips as i64,
+                    s.force_evals,
+                    s.final_time / wall
+                );
+            }
+        }
+    }
+}
+
 fn main() {
     if let Ok(spec) = std::env::var("FORCE_COUNT") {
         count_mode(&spec);
+        return;
+    }
+    if let Ok(spec) = std::env::var("FORCE_THROW") {
+        throw_mode(&spec);
+        return;
+    }
+    if std::env::var("FORCE_MESH").is_ok() {
+        mesh_mode();
         return;
     }
     let hp = HydroParams::from_physics(&Physics::default());

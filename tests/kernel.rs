@@ -106,8 +106,13 @@ fn stones() -> Vec<(String, Stone)> {
     out
 }
 
-fn params(law: ForceLaw, ventilated: bool, planing: bool) -> HydroParams {
+/// The options of issue 11 on top: none, the pressure opposing the motion with buoyancy, smooth
+/// axial spin, and all three.
+const EXTRAS: [&str; 4] = ["paper", "opposing+buoyancy", "smooth", "all"];
+
+fn params(law: ForceLaw, ventilated: bool, planing: bool, extras: &str) -> HydroParams {
     let (lift, friction) = law.default_coefficients();
+    let all = extras == "all";
     HydroParams {
         law,
         lift,
@@ -115,6 +120,13 @@ fn params(law: ForceLaw, ventilated: bool, planing: bool) -> HydroParams {
         density: 1000.0,
         ventilated,
         pressure_centre: planing.then_some(0.75),
+        opposing: all || extras == "opposing+buoyancy",
+        smooth_spin: all || extras == "smooth",
+        rho_g: if all || extras == "opposing+buoyancy" {
+            9810.0
+        } else {
+            0.0
+        },
     }
 }
 
@@ -256,6 +268,19 @@ fn clearance_agrees(what: &str, stone: &Stone, p: &Pose, surface: &dyn Surface) 
     r
 }
 
+/// Every combination of ventilation, pressure centre and the extra options.
+fn options() -> Vec<(bool, bool, &'static str)> {
+    let mut out = Vec::new();
+    for ventilated in [true, false] {
+        for planing in [false, true] {
+            for extras in EXTRAS {
+                out.push((ventilated, planing, extras));
+            }
+        }
+    }
+    out
+}
+
 /// Runs every combination of the options over `poses` random poses of each kind on `surface`.
 fn oracle(surface_name: &str, surface: &dyn Surface, poses: usize, seed: u64) {
     let mut rng = Rng(seed);
@@ -264,16 +289,16 @@ fn oracle(surface_name: &str, surface: &dyn Surface, poses: usize, seed: u64) {
     let mut evaluations = 0;
     for (name, stone) in stones() {
         for law in ForceLaw::ALL {
-            for ventilated in [true, false] {
-                for planing in [false, true] {
-                    let hp = params(law, ventilated, planing);
+            for (ventilated, planing, extras) in options() {
+                let hp = params(law, ventilated, planing, extras);
+                {
                     for kind in [Kind::Grazing, Kind::Mid, Kind::Deep, Kind::Free] {
                         // One scratch per run of poses, as the simulation keeps one.
                         let mut fs = Scratch::default();
                         for i in 0..poses {
                             let p = pose(&mut rng, &stone, kind);
                             let what = format!(
-                                "{surface_name} {name} {law:?} vent {ventilated} planing {planing} {kind:?} #{i}"
+                                "{surface_name} {name} {law:?} vent {ventilated} planing {planing} {extras} {kind:?} #{i}"
                             );
                             let record = i % 2 == 0;
                             let mut rs = Scratch::default();
@@ -320,7 +345,7 @@ fn oracle(surface_name: &str, surface: &dyn Surface, poses: usize, seed: u64) {
 
 #[test]
 fn fast_paths_match_the_reference_on_flat_water() {
-    oracle("flat", &FlatSurface, 4, 0x2545_f491_4f6c_dd1d);
+    oracle("flat", &FlatSurface, 3, 0x2545_f491_4f6c_dd1d);
 }
 
 #[test]
@@ -332,7 +357,7 @@ fn fast_paths_match_the_reference_on_a_swell() {
             phase: 0.4 + i as f64,
             bounded_below,
         };
-        oracle("swell", &swell, 2, 0x9e37_79b9_7f4a_7c15 + i as u64);
+        oracle("swell", &swell, 1, 0x9e37_79b9_7f4a_7c15 + i as u64);
     }
 }
 
@@ -370,7 +395,7 @@ fn clearance_and_sink_test_agree_at_the_extremes() {
 fn kernel_is_deterministic() {
     let mut rng = Rng(99);
     for (_, stone) in stones() {
-        let hp = params(ForceLaw::Rosellini, true, true);
+        let hp = params(ForceLaw::Rosellini, true, true, "all");
         for kind in [Kind::Mid, Kind::Free] {
             let p = pose(&mut rng, &stone, kind);
             let mut a = Scratch::default();

@@ -9,12 +9,24 @@
 //! The normal force acts along −N (eq. 19), friction along −V_t/|V_t| (eqs. 20–23); a zero |V_t|
 //! gives zero friction. With ventilation, a face receding from the water (v_n ≤ 0) sits in the air
 //! cavity and gets neither pressure nor friction.
+//!
+//! Options that extend the paper (issue 11; each a `physics` field whose default is the paper's model):
+//! - `pressure_sign: OpposesMotion` — the energy-consistent reading of eq. 19: a receding wetted face
+//!   (only possible with `ventilated: false`) is loaded along +N, so the pressure always opposes the
+//!   face's normal velocity and its power −p|v_n| S is never positive (physics.md §7.1).
+//! - `axial_spin: Smooth` — the mesh stands for a smooth body of revolution, whose surface spinning
+//!   about its axis a moves only along itself: the normal velocity is taken from V + ω_⊥ × r with
+//!   ω_⊥ = ω − (ω·a)a, and the pressure's torque about a (zero on the smooth body) is removed, so the
+//!   facets neither paddle the water nor spin the stone up; friction still sees the full ω × r.
+//! - `buoyancy: true` — hydrostatic pressure ρ g d on each loaded face (Archimedes; d the depth of the
+//!   wetted centroid below the surface, exact for pressure linear in depth over a planar polygon),
+//!   along −N: the buoyant term of planing lift (Savitsky 1964's second term; Hewitt et al. 2011).
 
 use glam::{DQuat, DVec3};
 
 use super::contact::{clip_triangle, WettedPatch};
 use super::kernel::{self, KernelScratch};
-use super::params::{ForceLaw, Physics, PressureCentre};
+use super::params::{AxialSpin, ForceLaw, Physics, PressureCentre, PressureSign, Shape};
 use super::stone::Stone;
 
 /// The constants of one force evaluation.
@@ -28,6 +40,12 @@ pub struct HydroParams {
     /// Fraction of the wetted length (from its trailing edge, along the flow) at which the pressure's
     /// resultant acts; `None`: at each face's wetted centroid.
     pub pressure_centre: Option<f64>,
+    /// Pressure on a receding wetted face opposes its motion (`PressureSign::OpposesMotion`).
+    pub opposing: bool,
+    /// The axial spin of a body of revolution is not felt as normal velocity (`AxialSpin::Smooth`).
+    pub smooth_spin: bool,
+    /// ρ g for hydrostatic pressure on the loaded faces (N/m³), 0 without buoyancy.
+    pub rho_g: f64,
 }
 
 impl HydroParams {
@@ -43,19 +61,34 @@ impl HydroParams {
                 PressureCentre::Faces => None,
                 PressureCentre::Planing(f) => Some(f),
             },
+            opposing: p.pressure_sign == PressureSign::OpposesMotion,
+            smooth_spin: p.axial_spin == AxialSpin::Smooth,
+            rho_g: if p.buoyancy {
+                p.water_density * p.gravity
+            } else {
+                0.0
+            },
         }
     }
 }
 
 /// Water force on one wetted face (eq. 24): normal N (unit, outward), wetted area S, local
-/// velocity v, centre-of-mass speed U.
-pub fn face_force(hp: &HydroParams, normal: DVec3, area: f64, v: DVec3, speed: f64) -> DVec3 {
-    let vn = v.dot(normal);
+/// velocity v (for friction), the face's normal velocity v_n (v·N, or the smooth body's, see
+/// `axial_spin`), centre-of-mass speed U, and the depth of the wetted centroid below the surface.
+pub fn face_force(
+    hp: &HydroParams,
+    normal: DVec3,
+    area: f64,
+    v: DVec3,
+    vn: f64,
+    speed: f64,
+    depth: f64,
+) -> DVec3 {
     if hp.ventilated && vn <= 0.0 {
         return DVec3::ZERO;
     }
     let half_rho_s = 0.5 * hp.density * area;
-    let vt = v - normal * vn;
+    let vt = v - normal * v.dot(normal);
     let vt_len = vt.length();
     let (pressure, friction) = match hp.law {
         ForceLaw::Paper => (
@@ -66,12 +99,25 @@ pub fn face_force(hp: &HydroParams, normal: DVec3, area: f64, v: DVec3, speed: f
             hp.lift * half_rho_s * speed * speed,
             hp.friction * half_rho_s * speed * speed,
         ),
-        ForceLaw::Rosellini => (
-            hp.lift * hp.density * area * speed * vn.max(0.0),
-            hp.friction * half_rho_s * vt_len * vt_len,
-        ),
+        ForceLaw::Rosellini => {
+            let vn_loaded = if hp.opposing { vn.abs() } else { vn.max(0.0) };
+            (
+                hp.lift * hp.density * area * speed * vn_loaded,
+                hp.friction * half_rho_s * vt_len * vt_len,
+            )
+        }
     };
-    let mut f = -normal * pressure;
+    // As printed, every loaded face is pushed along −N; opposing its motion, a receding face
+    // (v_n < 0) is pulled along +N and a face with v_n = 0 carries no dynamic pressure.
+    let sign = if !hp.opposing || vn > 0.0 {
+        1.0
+    } else if vn < 0.0 {
+        -1.0
+    } else {
+        0.0
+    };
+    let hydrostatic = hp.rho_g * depth.max(0.0) * area;
+    let mut f = -normal * (sign * pressure + hydrostatic);
     if vt_len > 0.0 {
         f -= vt * (friction / vt_len);
     }
@@ -315,9 +361,11 @@ pub fn evaluate_reference(
     }
     sum.in_contact = true;
     let speed = pose.velocity.length();
-    // Without rotation every face moves with the centre of mass, so a ventilated face receding
-    // from the water (V·N ≤ 0) is known to carry nothing before it is clipped.
-    let cull_receding = hp.ventilated && pose.angular_velocity == DVec3::ZERO;
+    let spin = SpinSplit::new(stone, hp, pose);
+    // Without rotation felt by the pressure every face moves with the centre of mass, so a
+    // ventilated face receding from the water (V·N ≤ 0) is known to carry nothing before it is clipped.
+    let cull_receding = hp.ventilated && spin.normal_omega == DVec3::ZERO;
+    let mut axial_pressure_torque = 0.0;
     let mut planing = hp
         .pressure_centre
         .and_then(|f| Planing::new(f, pose.velocity));
@@ -349,13 +397,22 @@ pub fn evaluate_reference(
         let normal = scratch.normals[t];
         let r = patch.centroid - pose.position;
         let v = pose.velocity + pose.angular_velocity.cross(r);
-        let f = face_force(hp, normal, patch.area, v, speed);
+        let vn = (pose.velocity + spin.normal_omega.cross(r)).dot(normal);
+        let depth = if flat {
+            -patch.centroid.z
+        } else {
+            surface.height(patch.centroid.x, patch.centroid.y) - patch.centroid.z
+        };
+        let f = face_force(hp, normal, patch.area, v, vn, speed, depth);
         if f == DVec3::ZERO {
             continue;
         }
         sum.wetted_area += patch.area;
         sum.force += f;
         sum.torque += r.cross(f);
+        if let Some(axis) = spin.axis {
+            axial_pressure_torque += r.cross(normal * f.dot(normal)).dot(axis);
+        }
         if let Some(pl) = planing.as_mut() {
             pl.add_face(p, d, pose.position, r, normal, f);
         }
@@ -371,7 +428,37 @@ pub fn evaluate_reference(
     if let Some(pl) = planing {
         sum.torque += pl.torque_shift();
     }
+    if let Some(axis) = spin.axis {
+        // The smooth body's pressure passes through its axis: no torque about it.
+        sum.torque -= axis * axial_pressure_torque;
+    }
     sum
+}
+
+/// The angular velocity as the pressure sees it (`axial_spin`): all of ω on a faceted body, or
+/// ω_⊥ = ω − (ω·a)a on the smooth body of revolution the mesh stands for.
+struct SpinSplit {
+    normal_omega: DVec3,
+    /// The symmetry axis (world) when the axial spin is removed from the pressure.
+    axis: Option<DVec3>,
+}
+
+impl SpinSplit {
+    fn new(stone: &Stone, hp: &HydroParams, pose: &Pose) -> Self {
+        let revolution = matches!(stone.shape, Shape::Disk { .. } | Shape::Lens { .. });
+        if !(hp.smooth_spin && revolution) {
+            return Self {
+                normal_omega: pose.angular_velocity,
+                axis: None,
+            };
+        }
+        let a = pose.orientation * DVec3::Z;
+        let w = pose.angular_velocity;
+        Self {
+            normal_omega: w - a * w.dot(a),
+            axis: Some(a),
+        }
+    }
 }
 
 /// The planing centre of pressure (Savitsky 1964; physics.md §7.3): the faces' pressure forces keep
@@ -466,7 +553,151 @@ mod tests {
             density: 1000.0,
             ventilated,
             pressure_centre: None,
+            opposing: false,
+            smooth_spin: false,
+            rho_g: 0.0,
         }
+    }
+
+    /// A small deterministic generator (xorshift) for the random-pose tests.
+    fn rng(seed: &mut u64) -> f64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn opposing_pressure_never_does_positive_work() {
+        // Every law, ventilated or not: with pressure opposing the normal motion, each face's force
+        // F satisfies F·v ≤ 0 for its own velocity v (no energy from nowhere, issue 11).
+        let mut seed = 0x9e37_79b9_7f4a_7c15;
+        for law in ForceLaw::ALL {
+            for ventilated in [true, false] {
+                let h = HydroParams {
+                    opposing: true,
+                    ..hp(law, ventilated)
+                };
+                for _ in 0..2000 {
+                    let mut r3 = || DVec3::new(rng(&mut seed), rng(&mut seed), rng(&mut seed));
+                    let normal = (r3() - DVec3::splat(0.5)).normalize();
+                    let v = (r3() - DVec3::splat(0.5)) * 20.0;
+                    let f = face_force(&h, normal, 0.01, v, v.dot(normal), v.length(), 0.0);
+                    assert!(f.is_finite());
+                    assert!(
+                        f.dot(v) <= 1e-12 * f.length() * v.length(),
+                        "{law:?} {f} {v}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn as_printed_paper_law_pushes_a_receding_face_forward() {
+        // The defect the energy-consistent reading removes: a receding face pushed along −N.
+        let normal = DVec3::new(0.0, 0.0, 1.0);
+        let v = DVec3::new(0.0, 0.0, -2.0);
+        let f = face_force(&hp(ForceLaw::Paper, false), normal, 0.01, v, -2.0, 2.0, 0.0);
+        assert!(f.dot(v) > 0.0);
+    }
+
+    #[test]
+    fn buoyancy_of_a_submerged_disk_is_archimedes() {
+        // A disk held still just under the surface, unventilated (every wetted face loaded): the
+        // hydrostatic pressures sum to ρ g V upwards with no torque (exact for planar faces).
+        let stone = Stone::new(&crate::sim::params::StoneParams {
+            shape: Shape::Disk {
+                radius: 0.05,
+                thickness: 0.01,
+            },
+            mass: 0.1,
+            segments: 24,
+        })
+        .unwrap();
+        let h = HydroParams {
+            rho_g: 1000.0 * 9.81,
+            lift: 0.0,
+            friction: 0.0,
+            ..hp(ForceLaw::Rosellini, false)
+        };
+        let pose = Pose {
+            position: DVec3::new(0.0, 0.0, -0.2),
+            velocity: DVec3::ZERO,
+            orientation: DQuat::from_rotation_y(0.3),
+            angular_velocity: DVec3::ZERO,
+        };
+        let f = evaluate(
+            &stone,
+            &h,
+            &pose,
+            &FlatSurface,
+            &mut Scratch::default(),
+            false,
+        );
+        let expect = 1000.0 * 9.81 * stone.volume;
+        assert!(
+            (f.force.z - expect).abs() < 1e-9 * expect,
+            "{} vs {expect}",
+            f.force.z
+        );
+        assert!(f.force.x.abs() < 1e-9 * expect && f.force.y.abs() < 1e-9 * expect);
+        // The force is exact (pressure linear in depth over planar faces); the torque puts each
+        // face's load at its centroid, which is off by at most ρ g A_i d_i² per face (d_i: the
+        // farthest vertex from the centroid, since |p − p_c| ≤ ρ g |r − r_c|).
+        let bound: f64 = (0..stone.mesh.triangles.len())
+            .map(|i| {
+                let c = stone.mesh.corners(i);
+                let m = (c[0] + c[1] + c[2]) / 3.0;
+                let d = c.iter().map(|p| (*p - m).length()).fold(0.0, f64::max);
+                1000.0 * 9.81 * stone.areas[i] * d * d
+            })
+            .sum();
+        assert!(f.torque.length() < bound, "{} vs {bound}", f.torque);
+    }
+
+    #[test]
+    fn smooth_axial_spin_changes_nothing_on_the_smooth_part_and_takes_no_axial_torque() {
+        // A lens spinning fast about its axis and planing: with `Smooth` the pressure sees no spin
+        // (the same pressure force as without spin, to rounding), the torque has no component along
+        // the axis from pressure.
+        let stone = Stone::new(&crate::sim::params::StoneParams {
+            shape: Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            mass: 0.1,
+            segments: 32,
+        })
+        .unwrap();
+        let q = DQuat::from_rotation_y(-0.35);
+        let axis = q * DVec3::Z;
+        let pose = |w: f64| Pose {
+            position: DVec3::new(0.0, 0.0, 0.0),
+            velocity: DVec3::new(8.0, 0.0, -0.5),
+            orientation: q,
+            angular_velocity: axis * w,
+        };
+        let run = |smooth: bool, w: f64| {
+            let h = HydroParams {
+                smooth_spin: smooth,
+                friction: 0.0,
+                ..hp(ForceLaw::Rosellini, true)
+            };
+            evaluate(
+                &stone,
+                &h,
+                &pose(w),
+                &FlatSurface,
+                &mut Scratch::default(),
+                false,
+            )
+        };
+        let still = run(true, 0.0);
+        let smooth = run(true, 300.0);
+        let scale = still.force.length();
+        assert!((smooth.force - still.force).length() < 1e-9 * scale);
+        assert!(smooth.torque.dot(axis).abs() < 1e-12 * scale * 0.05);
     }
 
     /// The planing option moves the pressure's resultant to the given fraction of the wetted length
@@ -535,7 +766,7 @@ mod tests {
             friction: 0.0,
             ..hp(ForceLaw::Rosellini, true)
         };
-        let f = face_force(&h, normal, s, v, u);
+        let f = face_force(&h, normal, s, v, v.dot(normal), u, 0.0);
         let expect = 0.5 * 1000.0 * u * u * s * (alpha + beta).sin();
         assert!((f.length() - expect).abs() < 1e-12 * expect);
         assert!(f.dot(normal) < 0.0);
@@ -547,12 +778,31 @@ mod tests {
         let v = DVec3::new(3.0, 0.0, -1.0);
         for law in ForceLaw::ALL {
             assert_eq!(
-                face_force(&hp(law, true), normal, 0.01, v, v.length()),
+                face_force(
+                    &hp(law, true),
+                    normal,
+                    0.01,
+                    v,
+                    v.dot(normal),
+                    v.length(),
+                    0.0
+                ),
                 DVec3::ZERO
             );
             // Not ventilated: the paper as printed pushes on every wetted face.
             if law != ForceLaw::Rosellini {
-                assert!(face_force(&hp(law, false), normal, 0.01, v, v.length()).z < 0.0);
+                assert!(
+                    face_force(
+                        &hp(law, false),
+                        normal,
+                        0.01,
+                        v,
+                        v.dot(normal),
+                        v.length(),
+                        0.0
+                    )
+                    .z < 0.0
+                );
             }
         }
     }
@@ -562,7 +812,7 @@ mod tests {
         let normal = DVec3::new(0.0, 0.0, -1.0);
         let v = DVec3::new(0.0, 0.0, -2.0);
         for law in ForceLaw::ALL {
-            let f = face_force(&hp(law, true), normal, 0.01, v, 2.0);
+            let f = face_force(&hp(law, true), normal, 0.01, v, v.dot(normal), 2.0, 0.0);
             assert!(f.is_finite());
             assert!(f.z > 0.0);
             assert_eq!(f.x, 0.0);
@@ -574,7 +824,7 @@ mod tests {
         let normal = DVec3::new(0.0, 0.0, -1.0);
         let v = DVec3::new(4.0, 0.0, -1.0);
         let h = hp(ForceLaw::Paper, true);
-        let f = face_force(&h, normal, 0.02, v, v.length());
+        let f = face_force(&h, normal, 0.02, v, v.dot(normal), v.length(), 0.0);
         let fn_ = 0.5 * 1.4 * 1000.0 * 1.0 * 0.02;
         let ft = 0.5 * 0.005 * 1000.0 * 16.0 * 0.02;
         assert!((f - DVec3::new(-ft, 0.0, fn_)).length() < 1e-12);

@@ -225,6 +225,31 @@ pub enum PressureCentre {
     Planing(f64),
 }
 
+/// How a wetted face that recedes from the water is loaded when `ventilated` is false (physics.md
+/// §7.1–7.2; issue 11). With `ventilated: true` receding faces carry nothing and this has no effect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum PressureSign {
+    /// The paper's eqs. 17–19 as printed: every wetted face is pushed along −N, so a receding face is
+    /// pushed the way it already moves and the water does work on the stone (energy from nowhere).
+    AsPrinted,
+    /// The energy-consistent reading: each face's pressure opposes its own normal velocity
+    /// (F_n = −p(|v_n|) sign(v_n) N), so every face's force does negative work (no energy gained).
+    OpposesMotion,
+}
+
+/// What the per-face pressure sees of the spin about a body of revolution's own axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum AxialSpin {
+    /// The faceted mesh as it is: the spin's velocity ω_s a × r has a normal component on facets
+    /// that are not exactly tangent to the circles of the revolution (today's behaviour; at 50 rev/s
+    /// it paddles the water with a few m/s of spurious normal velocity near the rim).
+    Faceted,
+    /// The smooth body of revolution the mesh stands for: a surface of revolution spinning about its
+    /// axis moves only along itself, so the axial spin adds nothing to any face's normal velocity (it
+    /// still drags tangentially through friction). Plates are not bodies of revolution: no effect.
+    Smooth,
+}
+
 /// Savitsky's centre of pressure: 0.75 of the wetted length ahead of the trailing edge.
 pub const SAVITSKY_CENTRE: f64 = 0.75;
 
@@ -257,6 +282,12 @@ pub struct Physics {
     pub rotation: Rotation,
     /// Where the pressure acts along the flow (torque only).
     pub pressure_centre: PressureCentre,
+    /// How a receding wetted face is loaded when not ventilated.
+    pub pressure_sign: PressureSign,
+    /// Whether the axial spin of a body of revolution is felt as normal velocity by its facets.
+    pub axial_spin: AxialSpin,
+    /// Hydrostatic pressure ρ g d on the loaded faces (Archimedes; d the wetted centroid's depth).
+    pub buoyancy: bool,
     /// s: the tick (fixed step; Adaptive's upper bound).
     pub dt: f64,
     /// s
@@ -276,6 +307,9 @@ impl Default for Physics {
             tolerance: 1e-6,
             rotation: Rotation::Locked,
             pressure_centre: PressureCentre::Faces,
+            pressure_sign: PressureSign::AsPrinted,
+            axial_spin: AxialSpin::Faceted,
+            buoyancy: false,
             dt: 0.005,
             max_time: 20.0,
         }
