@@ -166,7 +166,8 @@ fn throw_mode(spec: &str) {
 /// the accuracy study's throws.
 fn mesh_mode() {
     let mut cases: Vec<(String, Preset)> = Vec::new();
-    let mut default = Preset::default();
+    let mut default = stoneskip::preset::load(std::path::Path::new("assets/presets/default.ron"))
+        .expect("shipped preset");
     default.water.enabled = false;
     cases.push(("default".into(), default));
     let base = throws::base(Integrator::Adaptive, 0.005, 1e-6);

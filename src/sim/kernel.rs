@@ -480,17 +480,26 @@ pub struct KernelScratch {
     wet: Vec<u32>,
 }
 
-/// Faces in world axes (offsets from the centre of mass) for one orientation, sorted by their
-/// lowest vertex; `prefmax[k]` is the highest vertex of faces 0..=k.
+/// Faces in world axes (offsets from the centre of mass) for one orientation, in groups of
+/// similar vertical extent (each at most half the previous group's), each group sorted by its
+/// faces' highest vertex: against a level the wholly wet faces of a group are a prefix, and the
+/// faces crossing it lie within the group's extent above it.
 #[derive(Debug, Clone)]
 struct Sorted {
     orientation: DQuat,
     faces: FaceSoa,
     zmin: Vec<f64>,
-    prefmax: Vec<f64>,
+    zmax: Vec<f64>,
+    /// (start, end, largest extent) of each group.
+    groups: Vec<(usize, usize, f64)>,
+    /// The lowest vertex's offset.
+    lowest: f64,
     /// Vertex offsets (world axes), mesh order.
     offsets: Vec<DVec3>,
 }
+
+/// Number of extent groups (the last holds every smaller face).
+const GROUPS: usize = 8;
 
 impl Sorted {
     fn new(km: &KernelMesh, orientation: DQuat) -> Self {
@@ -503,33 +512,41 @@ impl Sorted {
                 offsets[b.verts[i][k] as usize] = rot * b.corner(k, i);
             }
         }
-        let zmin_of = |i: usize| {
-            let v = b.verts[i];
-            offsets[v[0] as usize]
-                .z
-                .min(offsets[v[1] as usize].z)
-                .min(offsets[v[2] as usize].z)
+        let keys: Vec<(f64, f64)> = (0..n)
+            .map(|i| {
+                let z = b.verts[i].map(|v| offsets[v as usize].z);
+                (z[0].min(z[1]).min(z[2]), z[0].max(z[1]).max(z[2]))
+            })
+            .collect();
+        let top = keys.iter().map(|k| k.1 - k.0).fold(0.0, f64::max);
+        let group_of = |k: (f64, f64)| {
+            let e = k.1 - k.0;
+            let mut g = 0;
+            let mut bound = top * 0.5;
+            while g + 1 < GROUPS && e <= bound {
+                g += 1;
+                bound *= 0.5;
+            }
+            g
         };
-        let zmax_of = |i: usize| {
-            let v = b.verts[i];
-            offsets[v[0] as usize]
-                .z
-                .max(offsets[v[1] as usize].z)
-                .max(offsets[v[2] as usize].z)
-        };
-        let keys: Vec<(f64, f64)> = (0..n).map(|i| (zmin_of(i), zmax_of(i))).collect();
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&a, &c| {
-            keys[a]
-                .0
-                .total_cmp(&keys[c].0)
+        let mut order: Vec<(usize, usize)> = (0..n).map(|i| (group_of(keys[i]), i)).collect();
+        order.sort_by(|&(ga, a), &(gc, c)| {
+            ga.cmp(&gc)
                 .then(keys[a].1.total_cmp(&keys[c].1))
+                .then(keys[a].0.total_cmp(&keys[c].0))
                 .then(a.cmp(&c))
         });
         let mut faces = FaceSoa::default();
-        let (mut zmin, mut prefmax) = (Vec::with_capacity(n), Vec::with_capacity(n));
-        let mut top = f64::NEG_INFINITY;
-        for &i in &order {
+        let (mut zmin, mut zmax) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let mut groups: Vec<(usize, usize, f64)> = Vec::new();
+        for (k, &(g, i)) in order.iter().enumerate() {
+            if k == 0 || order[k - 1].0 != g {
+                groups.push((k, k, 0.0));
+            }
+            if let Some(last) = groups.last_mut() {
+                last.1 = k + 1;
+                last.2 = last.2.max(keys[i].1 - keys[i].0);
+            }
             let v = b.verts[i];
             faces.push(
                 v.map(|j| offsets[j as usize]),
@@ -538,16 +555,25 @@ impl Sorted {
                 v,
             );
             zmin.push(keys[i].0);
-            top = top.max(keys[i].1);
-            prefmax.push(top);
+            zmax.push(keys[i].1);
         }
+        let lowest = zmin.iter().copied().fold(f64::INFINITY, f64::min);
         Self {
             orientation,
             faces,
             zmin,
-            prefmax,
+            zmax,
+            groups,
+            lowest,
             offsets,
         }
+    }
+
+    /// End of the faces of group `(start, end, extent)` whose highest vertex may be at most
+    /// `extent` above `level` (a margin far above rounding included).
+    fn reach(&self, (start, end, extent): (usize, usize, f64), level: f64, scale: f64) -> usize {
+        let limit = level + extent * (1.0 + 1e-9) + 1e-12 * scale;
+        start + self.zmax[start..end].partition_point(|&m| m <= limit)
     }
 }
 
@@ -660,6 +686,17 @@ impl<'a> Ctx<'a> {
             up: rot.map_or(DVec3::Z, |r| DVec3::new(r.x_axis.z, r.y_axis.z, r.z_axis.z)),
             wavy: (!call.surface.is_flat()).then_some(call.surface),
         }
+    }
+
+    /// The options the explicit-SIMD chunks implement: the paper's sign, no buoyancy, faceted
+    /// spin, no planing centre, no records.
+    fn is_plain(&self) -> bool {
+        !self.opposing
+            && self.rho_g == 0.0
+            && self.normal_w.is_none()
+            && self.axis.is_none()
+            && self.dir.is_none()
+            && !self.record
     }
 
     /// The angular velocity the pressure sees is zero: a ventilated face receding from the water
@@ -1047,7 +1084,9 @@ fn wet_chunk<const N: usize, const LAW: u8, const ROT: bool, S: Source<N>>(
     }
 }
 
-/// The wholly wet faces `range` (contiguous) and `list` (gathered) into `acc`.
+/// The wholly wet faces `range` (contiguous) and `list` (gathered) into `acc`: whole chunks of
+/// the range, then whole chunks of the list, then the rest one by one, each summed into `acc` in
+/// that order (the AVX2 path fills the first part itself, so both give the same bits).
 #[inline(always)]
 fn wet_faces_body<const LAW: u8, const ROT: bool>(
     c: &Ctx,
@@ -1056,23 +1095,29 @@ fn wet_faces_body<const LAW: u8, const ROT: bool>(
     list: &[u32],
     acc: &mut Acc,
     loads: &mut Vec<FaceLoad>,
+    chunks_done: bool,
 ) {
-    let mut la = LaneAcc::<LANES>::default();
-    let mut i = range.start;
-    while i + LANES <= range.end {
-        wet_chunk::<LANES, LAW, ROT, _>(c, faces, Contiguous(i), &mut la, loads);
-        i += LANES;
+    let full = range.start + (range.len() / LANES) * LANES;
+    if !chunks_done {
+        let mut la = LaneAcc::<LANES>::default();
+        let mut i = range.start;
+        while i < full {
+            wet_chunk::<LANES, LAW, ROT, _>(c, faces, Contiguous(i), &mut la, loads);
+            i += LANES;
+        }
+        acc.add_lanes(&la);
     }
+    let mut la = LaneAcc::<LANES>::default();
     let mut chunks = list.chunks_exact(LANES);
     for ch in chunks.by_ref() {
         let idx = [ch[0], ch[1], ch[2], ch[3]].map(|j| j as usize);
         wet_chunk::<LANES, LAW, ROT, _>(c, faces, Gathered(idx), &mut la, loads);
     }
+    acc.add_lanes(&la);
     let mut one = LaneAcc::<1>::default();
-    for j in (i..range.end).chain(chunks.remainder().iter().map(|&j| j as usize)) {
+    for j in (full..range.end).chain(chunks.remainder().iter().map(|&j| j as usize)) {
         wet_chunk::<1, LAW, ROT, _>(c, faces, Gathered([j]), &mut one, loads);
     }
-    acc.add_lanes(&la);
     acc.add_lanes(&one);
 }
 
@@ -1086,7 +1131,15 @@ unsafe fn wet_faces_avx2<const LAW: u8, const ROT: bool>(
     acc: &mut Acc,
     loads: &mut Vec<FaceLoad>,
 ) {
-    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads)
+    let plain = c.is_plain();
+    if plain {
+        let full = range.start + (range.len() / LANES) * LANES;
+        let mut la = LaneAcc::<LANES>::default();
+        // SAFETY: AVX2 is enabled in this function; the chunks lie inside the face arrays.
+        unsafe { simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut la) };
+        acc.add_lanes(&la);
+    }
+    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, plain)
 }
 
 fn wet_faces_portable<const LAW: u8, const ROT: bool>(
@@ -1097,7 +1150,7 @@ fn wet_faces_portable<const LAW: u8, const ROT: bool>(
     acc: &mut Acc,
     loads: &mut Vec<FaceLoad>,
 ) {
-    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads)
+    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, false)
 }
 
 /// Wholly wet faces, on the widest vector unit the machine has (same bits on every one).
@@ -1114,11 +1167,158 @@ fn wet_faces<const LAW: u8, const ROT: bool>(
     }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2 (checked just above); the function is otherwise safe.
+        // SAFETY: the CPU supports AVX2 (checked just above).
         unsafe { wet_faces_avx2::<LAW, ROT>(c, faces, range, list, acc, loads) };
         return;
     }
     wet_faces_portable::<LAW, ROT>(c, faces, range, list, acc, loads)
+}
+
+/// Explicit AVX2 for the common case (the paper's options, no planing centre, no record): the
+/// operations of [`lane_law`] and [`contribute`] in the same order, four faces per register.
+#[cfg(target_arch = "x86_64")]
+mod simd {
+    use super::{Ctx, FaceSoa, LaneAcc, BOCQUET, PAPER};
+    use std::arch::x86_64::*;
+
+    #[inline(always)]
+    unsafe fn ld(col: &[f64], i: usize) -> __m256d {
+        debug_assert!(i + 4 <= col.len());
+        // SAFETY: the caller keeps i + 4 within the column.
+        unsafe { _mm256_loadu_pd(col.as_ptr().add(i)) }
+    }
+
+    /// Faces `start..end` (a multiple of four long) into `la`.
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn plain_chunks<const LAW: u8, const ROT: bool>(
+        c: &Ctx,
+        f: &FaceSoa,
+        start: usize,
+        end: usize,
+        la: &mut LaneAcc<4>,
+    ) {
+        assert!(end <= f.len() && (end - start) % 4 == 0);
+        let set = |x: f64| _mm256_set1_pd(x);
+        let (vx0, vy0, vz0) = (set(c.v.x), set(c.v.y), set(c.v.z));
+        let (wx, wy, wz) = (set(c.w.x), set(c.w.y), set(c.w.z));
+        let half_rho = set(0.5 * c.density);
+        let lift = set(c.lift);
+        let lift_rho = set(c.lift * c.density);
+        let friction = set(c.friction);
+        let speed = set(c.speed);
+        let zero = _mm256_setzero_pd();
+        let sign_bit = set(-0.0);
+        let vent = if c.ventilated {
+            _mm256_castsi256_pd(_mm256_set1_epi64x(-1))
+        } else {
+            zero
+        };
+        let rd = |a: &[f64; 4]| unsafe { _mm256_loadu_pd(a.as_ptr()) };
+        let mut af = [rd(&la.force[0]), rd(&la.force[1]), rd(&la.force[2])];
+        let mut at = [rd(&la.torque[0]), rd(&la.torque[1]), rd(&la.torque[2])];
+        let mut aa = rd(&la.area);
+        let mut i = start;
+        while i < end {
+            // SAFETY: i + 4 ≤ end ≤ len.
+            let (nx, ny, nz) = unsafe { (ld(&f.n[0], i), ld(&f.n[1], i), ld(&f.n[2], i)) };
+            let (gx, gy, gz) = unsafe { (ld(&f.g[0], i), ld(&f.g[1], i), ld(&f.g[2], i)) };
+            let area = unsafe { ld(&f.area, i) };
+            let (vx, vy, vz) = if ROT {
+                (
+                    _mm256_add_pd(
+                        vx0,
+                        _mm256_sub_pd(_mm256_mul_pd(wy, gz), _mm256_mul_pd(gy, wz)),
+                    ),
+                    _mm256_add_pd(
+                        vy0,
+                        _mm256_sub_pd(_mm256_mul_pd(wz, gx), _mm256_mul_pd(gz, wx)),
+                    ),
+                    _mm256_add_pd(
+                        vz0,
+                        _mm256_sub_pd(_mm256_mul_pd(wx, gy), _mm256_mul_pd(gx, wy)),
+                    ),
+                )
+            } else {
+                (vx0, vy0, vz0)
+            };
+            let vn = _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(vx, nx), _mm256_mul_pd(vy, ny)),
+                _mm256_mul_pd(vz, nz),
+            );
+            let hrs = _mm256_mul_pd(half_rho, area);
+            let tx = _mm256_sub_pd(vx, _mm256_mul_pd(nx, vn));
+            let ty = _mm256_sub_pd(vy, _mm256_mul_pd(ny, vn));
+            let tz = _mm256_sub_pd(vz, _mm256_mul_pd(nz, vn));
+            let vt_len = _mm256_sqrt_pd(_mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(tx, tx), _mm256_mul_pd(ty, ty)),
+                _mm256_mul_pd(tz, tz),
+            ));
+            let (pressure, fric) = match LAW {
+                PAPER => (
+                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(lift, hrs), vn), vn),
+                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), vt_len), vt_len),
+                ),
+                BOCQUET => (
+                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(lift, hrs), speed), speed),
+                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), speed), speed),
+                ),
+                _ => (
+                    _mm256_mul_pd(
+                        _mm256_mul_pd(_mm256_mul_pd(lift_rho, area), speed),
+                        _mm256_max_pd(vn, zero),
+                    ),
+                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), vt_len), vt_len),
+                ),
+            };
+            // sign · pressure + hydrostatic, with sign 1 and no buoyancy.
+            let p = _mm256_add_pd(pressure, zero);
+            let neg = |x: __m256d| _mm256_xor_pd(x, sign_bit);
+            let mut fx = _mm256_mul_pd(neg(nx), p);
+            let mut fy = _mm256_mul_pd(neg(ny), p);
+            let mut fz = _mm256_mul_pd(neg(nz), p);
+            let q = _mm256_div_pd(fric, vt_len);
+            let tangential = _mm256_cmp_pd::<_CMP_GT_OQ>(vt_len, zero);
+            fx = _mm256_blendv_pd(fx, _mm256_sub_pd(fx, _mm256_mul_pd(tx, q)), tangential);
+            fy = _mm256_blendv_pd(fy, _mm256_sub_pd(fy, _mm256_mul_pd(ty, q)), tangential);
+            fz = _mm256_blendv_pd(fz, _mm256_sub_pd(fz, _mm256_mul_pd(tz, q)), tangential);
+            let receding = _mm256_and_pd(vent, _mm256_cmp_pd::<_CMP_LE_OQ>(vn, zero));
+            let any = _mm256_or_pd(
+                _mm256_or_pd(
+                    _mm256_cmp_pd::<_CMP_NEQ_UQ>(fx, zero),
+                    _mm256_cmp_pd::<_CMP_NEQ_UQ>(fy, zero),
+                ),
+                _mm256_cmp_pd::<_CMP_NEQ_UQ>(fz, zero),
+            );
+            let loaded = _mm256_and_pd(
+                _mm256_andnot_pd(receding, any),
+                _mm256_cmp_pd::<_CMP_GT_OQ>(area, zero),
+            );
+            let keep = |x: __m256d| _mm256_and_pd(x, loaded);
+            af[0] = _mm256_add_pd(af[0], keep(fx));
+            af[1] = _mm256_add_pd(af[1], keep(fy));
+            af[2] = _mm256_add_pd(af[2], keep(fz));
+            at[0] = _mm256_add_pd(
+                at[0],
+                keep(_mm256_sub_pd(_mm256_mul_pd(gy, fz), _mm256_mul_pd(fy, gz))),
+            );
+            at[1] = _mm256_add_pd(
+                at[1],
+                keep(_mm256_sub_pd(_mm256_mul_pd(gz, fx), _mm256_mul_pd(fz, gx))),
+            );
+            at[2] = _mm256_add_pd(
+                at[2],
+                keep(_mm256_sub_pd(_mm256_mul_pd(gx, fy), _mm256_mul_pd(fx, gy))),
+            );
+            aa = _mm256_add_pd(aa, keep(area));
+            i += 4;
+        }
+        let wr = |a: &mut [f64; 4], v: __m256d| unsafe { _mm256_storeu_pd(a.as_mut_ptr(), v) };
+        for k in 0..3 {
+            wr(&mut la.force[k], af[k]);
+            wr(&mut la.torque[k], at[k]);
+        }
+        wr(&mut la.area, aa);
+    }
 }
 
 /// A face crossing the surface: clipped (paper Fig. 5), then the law for its wetted part.
@@ -1289,26 +1489,38 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
     let faces = &s.faces;
     let mut acc = Acc::default();
     wet.clear();
+    let scale = z.abs() + stone.bounding_radius;
     let in_contact;
     if call.surface.is_flat() {
         // Some corner wet ⇔ the lowest is; wholly wet ⇔ the highest is (rounding is monotonic).
-        let k2 = s.zmin.partition_point(|&m| z + m <= 0.0);
-        let k1 = s.prefmax[..k2].partition_point(|&m| z + m <= 0.0);
-        in_contact = k2 > 0;
-        for i in k1..k2 {
-            let d = [0, 1, 2].map(|k| z + faces.pos[k][2][i]);
-            classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
+        in_contact = z + s.lowest <= 0.0;
+        if !in_contact {
+            return ForceSum::default();
         }
-        wet_faces::<LAW, ROT>(&c, faces, 0..k1, wet, &mut acc, loads);
+        for &group in &s.groups {
+            let (start, end, _) = group;
+            let kw = start + s.zmax[start..end].partition_point(|&m| z + m <= 0.0);
+            wet_faces::<LAW, ROT>(&c, faces, start..kw, &[], &mut acc, loads);
+            for i in kw..s.reach(group, -z, scale) {
+                let d = [0, 1, 2].map(|k| z + faces.pos[k][2][i]);
+                classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
+            }
+        }
+        wet_faces::<LAW, ROT>(&c, faces, 0..0, wet, &mut acc, loads);
     } else {
         let max_h = call.surface.max_height();
-        let k2 = s.zmin.partition_point(|&m| (z + m) - max_h <= 0.0);
         heights.start(km.vertex_count);
         let mut any = false;
-        for i in 0..k2 {
-            let d = faces.verts[i]
-                .map(|v| heights.get(v, call.surface, || pose.position + s.offsets[v as usize]));
-            any |= classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
+        for &group in &s.groups {
+            for i in group.0..s.reach(group, max_h - z, scale + max_h.abs()) {
+                if (z + s.zmin[i]) - max_h > 0.0 {
+                    continue; // surely dry
+                }
+                let d = faces.verts[i].map(|v| {
+                    heights.get(v, call.surface, || pose.position + s.offsets[v as usize])
+                });
+                any |= classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
+            }
         }
         in_contact = any;
         wet_faces::<LAW, ROT>(&c, faces, 0..0, wet, &mut acc, loads);
@@ -1448,6 +1660,131 @@ mod tests {
                     let got = DVec3::new(f[0][0], f[1][0], f[2][0]);
                     assert_eq!(got.to_array(), expect.to_array(), "{law:?} {options}");
                     assert_eq!(nonzero[0], expect != DVec3::ZERO);
+                }
+            }
+        }
+    }
+
+    /// The explicit-AVX2 chunks give the portable lanes' bits (where the machine has AVX2).
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx2_chunks_match_the_portable_lanes_bit_for_bit() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        use crate::sim::params::{Shape, StoneParams};
+        let stone = crate::sim::stone::Stone::new(&StoneParams {
+            shape: Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            mass: 0.1,
+            segments: 32,
+        })
+        .unwrap();
+        let faces = &stone.kernel.faces;
+        let end = faces.len() / LANES * LANES;
+        let mut seed = 12345u64;
+        for law in ForceLaw::ALL {
+            for ventilated in [true, false] {
+                for spin in [false, true] {
+                    let (lift, friction) = law.default_coefficients();
+                    let hp = HydroParams {
+                        law,
+                        lift,
+                        friction,
+                        density: 1000.0,
+                        ventilated,
+                        pressure_centre: None,
+                        opposing: false,
+                        smooth_spin: false,
+                        rho_g: 0.0,
+                    };
+                    let mut r = || 2.0 * rng(&mut seed) - 1.0;
+                    let pose = Pose {
+                        position: DVec3::ZERO,
+                        velocity: DVec3::new(10.0 * r(), 2.0 * r(), -3.0 * r().abs()),
+                        orientation: DQuat::IDENTITY,
+                        angular_velocity: if spin {
+                            DVec3::new(r(), r(), r()) * 80.0
+                        } else {
+                            DVec3::ZERO
+                        },
+                    };
+                    let call = Call {
+                        hp: &hp,
+                        pose: &pose,
+                        surface: &super::super::hydro::FlatSurface,
+                        record: false,
+                    };
+                    let c = Ctx::new(&stone, &hp, &pose, None, &call);
+                    assert!(c.is_plain());
+                    let run = |simd: bool| {
+                        let mut la = LaneAcc::<LANES>::default();
+                        if simd {
+                            // SAFETY: AVX2 checked above.
+                            unsafe {
+                                match (law_code(law), spin) {
+                                    (PAPER, false) => simd::plain_chunks::<PAPER, false>(
+                                        &c, faces, 0, end, &mut la,
+                                    ),
+                                    (PAPER, true) => simd::plain_chunks::<PAPER, true>(
+                                        &c, faces, 0, end, &mut la,
+                                    ),
+                                    (BOCQUET, false) => simd::plain_chunks::<BOCQUET, false>(
+                                        &c, faces, 0, end, &mut la,
+                                    ),
+                                    (BOCQUET, true) => simd::plain_chunks::<BOCQUET, true>(
+                                        &c, faces, 0, end, &mut la,
+                                    ),
+                                    (_, false) => simd::plain_chunks::<ROSELLINI, false>(
+                                        &c, faces, 0, end, &mut la,
+                                    ),
+                                    (_, true) => simd::plain_chunks::<ROSELLINI, true>(
+                                        &c, faces, 0, end, &mut la,
+                                    ),
+                                }
+                            }
+                        } else {
+                            let mut loads = Vec::new();
+                            for i in (0..end).step_by(LANES) {
+                                let s = Contiguous(i);
+                                match (law_code(law), spin) {
+                                    (PAPER, false) => wet_chunk::<LANES, PAPER, false, _>(
+                                        &c, faces, s, &mut la, &mut loads,
+                                    ),
+                                    (PAPER, true) => wet_chunk::<LANES, PAPER, true, _>(
+                                        &c, faces, s, &mut la, &mut loads,
+                                    ),
+                                    (BOCQUET, false) => wet_chunk::<LANES, BOCQUET, false, _>(
+                                        &c, faces, s, &mut la, &mut loads,
+                                    ),
+                                    (BOCQUET, true) => wet_chunk::<LANES, BOCQUET, true, _>(
+                                        &c, faces, s, &mut la, &mut loads,
+                                    ),
+                                    (_, false) => wet_chunk::<LANES, ROSELLINI, false, _>(
+                                        &c, faces, s, &mut la, &mut loads,
+                                    ),
+                                    (_, true) => wet_chunk::<LANES, ROSELLINI, true, _>(
+                                        &c, faces, s, &mut la, &mut loads,
+                                    ),
+                                }
+                            }
+                        }
+                        la
+                    };
+                    let (a, b) = (run(true), run(false));
+                    let bits = |la: &LaneAcc<LANES>| {
+                        let mut v: Vec<u64> = Vec::new();
+                        for k in 0..3 {
+                            v.extend(la.force[k].map(f64::to_bits));
+                            v.extend(la.torque[k].map(f64::to_bits));
+                        }
+                        v.extend(la.area.map(f64::to_bits));
+                        v
+                    };
+                    assert_eq!(bits(&a), bits(&b), "{law:?} vent {ventilated} spin {spin}");
+                    assert!(a.area.iter().sum::<f64>() > 0.0);
                 }
             }
         }
