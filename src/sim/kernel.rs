@@ -165,14 +165,15 @@ fn build_node(
     } else {
         2
     };
-    order[start..end].sort_by(|&a, &b| {
+    // Split at a multiple of the lane width so whole boxes fill the lanes: the items below the
+    // split along the axis go left (a deterministic selection, ties by index).
+    let count = end - start;
+    let mid = start + ((count / 2).div_ceil(LANES) * LANES).min(count - 1);
+    order[start..end].select_nth_unstable_by(mid - start, |&a, &b| {
         items[a].key[axis]
             .total_cmp(&items[b].key[axis])
             .then(a.cmp(&b))
     });
-    // Split at a multiple of the lane width so whole boxes fill the lanes.
-    let count = end - start;
-    let mid = start + ((count / 2).div_ceil(LANES) * LANES).min(count - 1);
     let left = build_node(items, order, start, mid, nodes);
     let right = build_node(items, order, mid, end, nodes);
     nodes[index as usize].left = left;
@@ -855,6 +856,12 @@ struct Acc {
     s_min: f64,
     s_max: f64,
     axial: f64,
+    /// Running sums of the wholly wet faces in chunks of the ranges, chunks of the lists, one by
+    /// one, and of the clipped faces: added at the end, in that order.
+    chunks: LaneAcc<LANES>,
+    listed: LaneAcc<LANES>,
+    single: LaneAcc<1>,
+    band: LaneAcc<1>,
 }
 
 impl Default for Acc {
@@ -869,6 +876,10 @@ impl Default for Acc {
             s_min: f64::INFINITY,
             s_max: f64::NEG_INFINITY,
             axial: 0.0,
+            chunks: LaneAcc::default(),
+            listed: LaneAcc::default(),
+            single: LaneAcc::default(),
+            band: LaneAcc::default(),
         }
     }
 }
@@ -941,7 +952,11 @@ struct Gathered<const N: usize>([usize; N]);
 impl<const N: usize> Source<N> for Gathered<N> {
     #[inline(always)]
     fn at(self, col: &[f64]) -> [f64; N] {
-        self.0.map(|i| col[i])
+        let mut out = [0.0; N];
+        for (o, &i) in out.iter_mut().zip(&self.0) {
+            *o = col[i];
+        }
+        out
     }
     #[inline(always)]
     fn index(self, l: usize) -> usize {
@@ -1085,8 +1100,8 @@ fn wet_chunk<const N: usize, const LAW: u8, const ROT: bool, S: Source<N>>(
 }
 
 /// The wholly wet faces `range` (contiguous) and `list` (gathered) into `acc`: whole chunks of
-/// the range, then whole chunks of the list, then the rest one by one, each summed into `acc` in
-/// that order (the AVX2 path fills the first part itself, so both give the same bits).
+/// the range, whole chunks of the list and the rest one by one, each into its own lanes (the AVX2
+/// path fills the first itself, with the same bits).
 #[inline(always)]
 fn wet_faces_body<const LAW: u8, const ROT: bool>(
     c: &Ctx,
@@ -1099,26 +1114,20 @@ fn wet_faces_body<const LAW: u8, const ROT: bool>(
 ) {
     let full = range.start + (range.len() / LANES) * LANES;
     if !chunks_done {
-        let mut la = LaneAcc::<LANES>::default();
         let mut i = range.start;
         while i < full {
-            wet_chunk::<LANES, LAW, ROT, _>(c, faces, Contiguous(i), &mut la, loads);
+            wet_chunk::<LANES, LAW, ROT, _>(c, faces, Contiguous(i), &mut acc.chunks, loads);
             i += LANES;
         }
-        acc.add_lanes(&la);
     }
-    let mut la = LaneAcc::<LANES>::default();
     let mut chunks = list.chunks_exact(LANES);
     for ch in chunks.by_ref() {
         let idx = [ch[0], ch[1], ch[2], ch[3]].map(|j| j as usize);
-        wet_chunk::<LANES, LAW, ROT, _>(c, faces, Gathered(idx), &mut la, loads);
+        wet_chunk::<LANES, LAW, ROT, _>(c, faces, Gathered(idx), &mut acc.listed, loads);
     }
-    acc.add_lanes(&la);
-    let mut one = LaneAcc::<1>::default();
     for j in (full..range.end).chain(chunks.remainder().iter().map(|&j| j as usize)) {
-        wet_chunk::<1, LAW, ROT, _>(c, faces, Gathered([j]), &mut one, loads);
+        wet_chunk::<1, LAW, ROT, _>(c, faces, Gathered([j]), &mut acc.single, loads);
     }
-    acc.add_lanes(&one);
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -1134,10 +1143,8 @@ unsafe fn wet_faces_avx2<const LAW: u8, const ROT: bool>(
     let plain = c.is_plain();
     if plain {
         let full = range.start + (range.len() / LANES) * LANES;
-        let mut la = LaneAcc::<LANES>::default();
         // SAFETY: AVX2 is enabled in this function; the chunks lie inside the face arrays.
-        unsafe { simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut la) };
-        acc.add_lanes(&la);
+        unsafe { simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks) };
     }
     wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, plain)
 }
@@ -1346,12 +1353,10 @@ fn band_face<const LAW: u8, const ROT: bool>(
         g: [[patch.centroid.x], [patch.centroid.y], [patch.centroid.z]],
         area: [patch.area],
     };
-    let mut one = LaneAcc::<1>::default();
-    let (loaded, f) = contribute::<1, LAW, ROT>(c, &x, &mut one);
+    let (loaded, f) = contribute::<1, LAW, ROT>(c, &x, &mut acc.band);
     if !loaded[0] {
         return;
     }
-    acc.add_lanes(&one);
     if let Some(dir) = c.dir {
         for k in 0..3 {
             let j = (k + 1) % 3;
@@ -1444,6 +1449,12 @@ struct Call<'a> {
 
 /// The sums as a [`ForceSum`] (world axes).
 fn finish(call: &Call, c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
+    let mut acc = *acc;
+    let (chunks, listed, single, band) = (acc.chunks, acc.listed, acc.single, acc.band);
+    acc.add_lanes(&chunks);
+    acc.add_lanes(&listed);
+    acc.add_lanes(&single);
+    acc.add_lanes(&band);
     let mut torque = acc.torque;
     if let (Some(fraction), Some(dir)) = (call.hp.pressure_centre, c.dir) {
         torque += acc.planing_shift(fraction, dir);
@@ -1502,7 +1513,8 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
             let kw = start + s.zmax[start..end].partition_point(|&m| z + m <= 0.0);
             wet_faces::<LAW, ROT>(&c, faces, start..kw, &[], &mut acc, loads);
             for i in kw..s.reach(group, -z, scale) {
-                let d = [0, 1, 2].map(|k| z + faces.pos[k][2][i]);
+                let pz = &faces.pos;
+                let d = [z + pz[0][2][i], z + pz[1][2][i], z + pz[2][2][i]];
                 classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
             }
         }
@@ -1577,7 +1589,8 @@ fn body_path<const LAW: u8>(
         }
         for i in node.range() {
             let d = if flat {
-                [0, 1, 2].map(|k| z + dot(u, faces.corner(k, i)))
+                let h = |k: usize| z + dot(u, faces.corner(k, i));
+                [h(0), h(1), h(2)]
             } else {
                 let (verts, position) = (faces.verts[i], pose.position);
                 [0, 1, 2]
