@@ -690,14 +690,13 @@ impl<'a> Ctx<'a> {
     }
 
     /// The options the explicit-SIMD chunks implement: the paper's sign, no buoyancy, faceted
-    /// spin, no planing centre, no records.
+    /// spin, no planing centre.
     fn is_plain(&self) -> bool {
         !self.opposing
             && self.rho_g == 0.0
             && self.normal_w.is_none()
             && self.axis.is_none()
             && self.dir.is_none()
-            && !self.record
     }
 
     /// The angular velocity the pressure sees is zero: a ventilated face receding from the water
@@ -1144,7 +1143,9 @@ unsafe fn wet_faces_avx2<const LAW: u8, const ROT: bool>(
     if plain {
         let full = range.start + (range.len() / LANES) * LANES;
         // SAFETY: AVX2 is enabled in this function; the chunks lie inside the face arrays.
-        unsafe { simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks) };
+        unsafe {
+            simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks, loads)
+        };
     }
     wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, plain)
 }
@@ -1185,7 +1186,8 @@ fn wet_faces<const LAW: u8, const ROT: bool>(
 /// operations of [`lane_law`] and [`contribute`] in the same order, four faces per register.
 #[cfg(target_arch = "x86_64")]
 mod simd {
-    use super::{Ctx, FaceSoa, LaneAcc, BOCQUET, PAPER};
+    use super::{Ctx, FaceLoad, FaceSoa, LaneAcc, BOCQUET, PAPER};
+    use glam::DVec3;
     use std::arch::x86_64::*;
 
     #[inline(always)]
@@ -1203,6 +1205,7 @@ mod simd {
         start: usize,
         end: usize,
         la: &mut LaneAcc<4>,
+        loads: &mut Vec<FaceLoad>,
     ) {
         assert!(end <= f.len() && (end - start) % 4 == 0);
         let set = |x: f64| _mm256_set1_pd(x);
@@ -1317,6 +1320,24 @@ mod simd {
                 keep(_mm256_sub_pd(_mm256_mul_pd(gx, fy), _mm256_mul_pd(fx, gy))),
             );
             aa = _mm256_add_pd(aa, keep(area));
+            if c.record {
+                let mut out = [[0.0; 4]; 3];
+                let mut mask = [0.0; 4];
+                // SAFETY: stores into local arrays of four.
+                unsafe {
+                    _mm256_storeu_pd(out[0].as_mut_ptr(), fx);
+                    _mm256_storeu_pd(out[1].as_mut_ptr(), fy);
+                    _mm256_storeu_pd(out[2].as_mut_ptr(), fz);
+                    _mm256_storeu_pd(mask.as_mut_ptr(), loaded);
+                }
+                for l in 0..4 {
+                    if mask[l].to_bits() != 0 {
+                        let j = i + l;
+                        let fl = DVec3::new(out[0][l], out[1][l], out[2][l]);
+                        loads.push(c.load(f.centroid(j), fl, f.normal(j), f.area[j]));
+                    }
+                }
+            }
             i += 4;
         }
         let wr = |a: &mut [f64; 4], v: __m256d| unsafe { _mm256_storeu_pd(a.as_mut_ptr(), v) };
@@ -1739,22 +1760,52 @@ mod tests {
                             unsafe {
                                 match (law_code(law), spin) {
                                     (PAPER, false) => simd::plain_chunks::<PAPER, false>(
-                                        &c, faces, 0, end, &mut la,
+                                        &c,
+                                        faces,
+                                        0,
+                                        end,
+                                        &mut la,
+                                        &mut Vec::new(),
                                     ),
                                     (PAPER, true) => simd::plain_chunks::<PAPER, true>(
-                                        &c, faces, 0, end, &mut la,
+                                        &c,
+                                        faces,
+                                        0,
+                                        end,
+                                        &mut la,
+                                        &mut Vec::new(),
                                     ),
                                     (BOCQUET, false) => simd::plain_chunks::<BOCQUET, false>(
-                                        &c, faces, 0, end, &mut la,
+                                        &c,
+                                        faces,
+                                        0,
+                                        end,
+                                        &mut la,
+                                        &mut Vec::new(),
                                     ),
                                     (BOCQUET, true) => simd::plain_chunks::<BOCQUET, true>(
-                                        &c, faces, 0, end, &mut la,
+                                        &c,
+                                        faces,
+                                        0,
+                                        end,
+                                        &mut la,
+                                        &mut Vec::new(),
                                     ),
                                     (_, false) => simd::plain_chunks::<ROSELLINI, false>(
-                                        &c, faces, 0, end, &mut la,
+                                        &c,
+                                        faces,
+                                        0,
+                                        end,
+                                        &mut la,
+                                        &mut Vec::new(),
                                     ),
                                     (_, true) => simd::plain_chunks::<ROSELLINI, true>(
-                                        &c, faces, 0, end, &mut la,
+                                        &c,
+                                        faces,
+                                        0,
+                                        end,
+                                        &mut la,
+                                        &mut Vec::new(),
                                     ),
                                 }
                             }
