@@ -25,6 +25,7 @@
 use glam::{DQuat, DVec3};
 
 use super::contact::{clip_triangle, WettedPatch};
+use super::kernel::{self, KernelScratch};
 use super::params::{AxialSpin, ForceLaw, Physics, PressureCentre, PressureSign, Shape};
 use super::stone::Stone;
 
@@ -129,6 +130,11 @@ pub trait Surface {
     fn height(&self, x: f64, y: f64) -> f64;
     /// An upper bound of η over the whole surface (for cheap rejection).
     fn max_height(&self) -> f64;
+    /// A lower bound of η over the whole surface (lets the kernel skip classifying faces that are
+    /// surely under); −∞ when unknown.
+    fn min_height(&self) -> f64 {
+        f64::NEG_INFINITY
+    }
     /// True when the surface is the plane z = 0 (lets the hot loop skip the height lookups).
     fn is_flat(&self) -> bool {
         false
@@ -144,6 +150,9 @@ impl Surface for FlatSurface {
         0.0
     }
     fn max_height(&self) -> f64 {
+        0.0
+    }
+    fn min_height(&self) -> f64 {
         0.0
     }
     fn is_flat(&self) -> bool {
@@ -186,6 +195,8 @@ pub struct Scratch {
     height: Vec<f64>,
     /// The load of each loaded face at the last recorded evaluation.
     pub loads: Vec<FaceLoad>,
+    /// The fast kernel's caches.
+    kernel: KernelScratch,
 }
 
 /// The vertical load of one wetted face, for the water coupling.
@@ -200,8 +211,25 @@ pub struct FaceLoad {
     pub footprint: f64,
 }
 
-/// Signed height of the stone's lowest vertex above the surface, and the world vertex positions.
+/// Signed height of the stone's lowest vertex above the surface (the kernel's hierarchy search;
+/// equal to [`lowest_clearance_reference`]).
 pub fn lowest_clearance(
+    stone: &Stone,
+    position: DVec3,
+    orientation: DQuat,
+    surface: &dyn Surface,
+) -> f64 {
+    kernel::lowest_clearance(
+        &stone.kernel,
+        stone.bounding_radius,
+        position,
+        orientation,
+        surface,
+    )
+}
+
+/// [`lowest_clearance`] over every vertex: the oracle.
+pub fn lowest_clearance_reference(
     stone: &Stone,
     position: DVec3,
     orientation: DQuat,
@@ -223,8 +251,19 @@ pub fn lowest_clearance(
 }
 
 /// True when every vertex of the faces whose outward normal points down is below the surface: the
-/// full immersion of the underside at which the stone loses its lift (design.md §4 "sank").
+/// full immersion of the underside at which the stone loses its lift (design.md §4 "sank"). The
+/// kernel's hierarchy search; equal to [`underside_submerged_reference`].
 pub fn underside_submerged(
+    stone: &Stone,
+    position: DVec3,
+    orientation: DQuat,
+    surface: &dyn Surface,
+) -> bool {
+    kernel::underside_submerged(&stone.kernel, position, orientation, surface)
+}
+
+/// [`underside_submerged`] over every face: the oracle.
+pub fn underside_submerged_reference(
     stone: &Stone,
     position: DVec3,
     orientation: DQuat,
@@ -250,7 +289,32 @@ pub fn underside_submerged(
 
 /// Forces and torque of the water on the stone in `pose` (eqs. 25–26). When `record` is true,
 /// the vertical load of every loaded face is stored in `scratch.loads` for the water coupling.
+/// The fast kernel ([`kernel::evaluate`]) where it implements `hp`'s options, else the reference;
+/// both agree to rounding (tests/kernel.rs).
 pub fn evaluate(
+    stone: &Stone,
+    hp: &HydroParams,
+    pose: &Pose,
+    surface: &dyn Surface,
+    scratch: &mut Scratch,
+    record: bool,
+) -> ForceSum {
+    if !kernel::fast_path_supports(hp) {
+        return evaluate_reference(stone, hp, pose, surface, scratch, record);
+    }
+    kernel::evaluate(
+        stone,
+        hp,
+        pose,
+        surface,
+        &mut scratch.kernel,
+        &mut scratch.loads,
+        record,
+    )
+}
+
+/// [`evaluate`] as the model states it, every vertex and face visited: the oracle of the kernel.
+pub fn evaluate_reference(
     stone: &Stone,
     hp: &HydroParams,
     pose: &Pose,

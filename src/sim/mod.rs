@@ -17,6 +17,7 @@ pub mod contact;
 pub mod hydro;
 pub mod integrate;
 pub mod metrics;
+pub mod kernel;
 pub mod params;
 pub mod reference;
 pub mod scenario;

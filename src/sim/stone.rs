@@ -6,6 +6,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
+use super::kernel::KernelMesh;
 use super::params::{Attitude, ParamError, Shape, StoneParams};
 
 /// A closed triangle mesh in the stone's body frame (centre of mass at the origin).
@@ -224,6 +225,8 @@ pub struct Stone {
     /// Body-frame outward unit normals and areas of the triangles.
     pub normals: Vec<DVec3>,
     pub areas: Vec<f64>,
+    /// The mesh arranged for the force kernel (struct-of-arrays, bounding hierarchies).
+    pub kernel: KernelMesh,
 }
 
 impl Stone {
@@ -252,10 +255,12 @@ impl Stone {
             .iter()
             .map(|p| p.length())
             .fold(0.0, f64::max);
-        let (normals, areas) = (0..mesh.triangles.len())
+        let (normals, areas): (Vec<DVec3>, Vec<f64>) = (0..mesh.triangles.len())
             .map(|i| mesh.normal_area(i))
             .unzip();
+        let kernel = KernelMesh::new(&mesh, &normals, &areas);
         Ok(Self {
+            kernel,
             shape: params.shape,
             mass: params.mass,
             inertia: props.inertia,
