@@ -16,8 +16,8 @@
 pub mod contact;
 pub mod hydro;
 pub mod integrate;
-pub mod metrics;
 pub mod kernel;
+pub mod metrics;
 pub mod params;
 pub mod reference;
 pub mod scenario;
