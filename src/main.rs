@@ -60,6 +60,12 @@ enum Command {
         /// Simulated time of the picture (s).
         #[arg(long, default_value_t = 0.0)]
         time: f64,
+        /// The app's camera: behind, side, follow or top.
+        #[arg(long, default_value = "behind", value_parser = parse_view)]
+        view: stoneskip::render::ViewMode,
+        /// The side view's vertical exaggeration: 1, 5, 10 or 20.
+        #[arg(long, default_value_t = 1.0)]
+        exaggerate: f32,
     },
     /// Runs a study (accuracy, stability, phase, defaults; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
     Study {
@@ -91,14 +97,30 @@ fn run() -> Result<()> {
             width,
             height,
             time,
+            view,
+            exaggerate,
         }) => {
             let p = preset::load(&preset)?;
-            stoneskip::render::render_to_png(&p, &out, width, height, time)
+            let view = stoneskip::render::PictureView {
+                view,
+                exaggeration: exaggerate,
+            };
+            stoneskip::render::render_to_png(&p, &out, width, height, time, view)
                 .with_context(|| format!("rendering {}", out.display()))
         }
         Some(Command::Study { name, out, quick }) => {
             stoneskip::study::run_study(&name, &out, quick)
         }
+    }
+}
+
+/// `--view`: one of the app's cameras.
+fn parse_view(s: &str) -> Result<stoneskip::render::ViewMode, String> {
+    match stoneskip::render::ViewMode::parse(s) {
+        Some(stoneskip::render::ViewMode::Free) | None => Err(format!(
+            "unknown view \"{s}\" (expected behind, side, follow or top)"
+        )),
+        Some(v) => Ok(v),
     }
 }
 

@@ -13,8 +13,21 @@ use super::ViewSettings;
 
 const TAU: f64 = std::f64::consts::TAU;
 
+/// What a typed number means: a finite number, or nothing (then the field keeps its old value).
+/// Rust's parser accepts "nan" and "inf", which a clamped slider would turn into its maximum.
+pub fn parse_finite(text: &str) -> Option<f64> {
+    text.trim()
+        .trim_end_matches(['°', '%', '×'])
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+}
+
 fn slider<'a>(value: &'a mut f64, range: std::ops::RangeInclusive<f64>) -> Slider<'a> {
-    Slider::new(value, range).clamping(SliderClamping::Always)
+    Slider::new(value, range)
+        .clamping(SliderClamping::Always)
+        .custom_parser(parse_finite)
 }
 
 fn grid(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui) -> bool) -> bool {
@@ -98,18 +111,21 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
         let r = ui.horizontal(|ui| {
             let a = ui.add(
                 egui::DragValue::new(&mut p[0])
+                    .custom_parser(parse_finite)
                     .range(-50.0..=50.0)
                     .speed(0.05)
                     .prefix("x "),
             );
             let b = ui.add(
                 egui::DragValue::new(&mut p[1])
+                    .custom_parser(parse_finite)
                     .range(-50.0..=50.0)
                     .speed(0.05)
                     .prefix("y "),
             );
             let z = ui.add(
                 egui::DragValue::new(&mut p[2])
+                    .custom_parser(parse_finite)
                     .range(0.0..=5.0)
                     .speed(0.01)
                     .prefix("z "),
@@ -128,6 +144,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
                     changed |= ui
                         .add(
                             egui::DragValue::new(&mut launch.angular_velocity[i])
+                                .custom_parser(parse_finite)
                                 .range(-100.0..=100.0)
                                 .speed(0.1)
                                 .prefix(format!("{axis} ")),
@@ -252,6 +269,7 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
             |ui| {
                 ui.add(
                     Slider::new(&mut stone.segments, 8..=128)
+                        .custom_parser(parse_finite)
                         .clamping(SliderClamping::Always)
                         .suffix(" segments"),
                 )
@@ -548,7 +566,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
     ui.checkbox(&mut view.show_trail, "Trajectory trail");
     ui.checkbox(
         &mut view.show_markers,
-        "Contact markers (green: skip, red: sank)",
+        "Contact markers (green: skip, red: did not leave the water)",
     );
     ui.checkbox(&mut view.show_splashes, "Splash cues");
     ui.horizontal(|ui| {
@@ -557,6 +575,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
         );
         ui.add(
             Slider::new(&mut view.ripple_gain, 0.0..=5.0)
+                .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .suffix("×"),
         );
@@ -568,8 +587,27 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
         );
         ui.add(
             Slider::new(&mut view.render_scale, 0.25..=1.0)
+                .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .custom_formatter(|v, _| format!("{:.0} %", v * 100.0)),
         );
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn typing_nan_or_inf_keeps_the_old_value() {
+        // egui keeps a field's value when its parser returns None.
+        for bad in [
+            "nan", "NaN", "-nan", "inf", "-inf", "infinity", "1e400", "", "abc",
+        ] {
+            assert_eq!(parse_finite(bad), None, "{bad}");
+        }
+        assert_eq!(parse_finite(" 3.5 "), Some(3.5));
+        assert_eq!(parse_finite("20°"), Some(20.0));
+        assert_eq!(parse_finite("-1e-3"), Some(-1e-3));
+    }
 }
