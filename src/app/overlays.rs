@@ -82,7 +82,7 @@ impl Model {
         let mut y = rect.top() + 42.0;
         for w in &self.warnings {
             let galley = painter.layout(
-                format!("⚠ {w}"),
+                format!("! {w}"),
                 FontId::proportional(13.0),
                 Color32::from_rgb(255, 200, 90),
                 (rect.width() - 28.0).max(100.0),
@@ -99,6 +99,8 @@ impl Model {
         let Some(status) = &self.status else {
             return;
         };
+        // Wake up when it is due to fade, even at rest.
+        ui.ctx().request_repaint_after(std::time::Duration::from_secs(1));
         let rect = self.view_rect;
         egui::Area::new(egui::Id::unique("status_toast"))
             .order(egui::Order::Foreground)
@@ -109,7 +111,7 @@ impl Model {
                     ui.horizontal(|ui| {
                         ui::message_ui(ui, &status.message);
                         if ui
-                            .small_button("✕")
+                            .small_button("×")
                             .on_hover_text("Dismiss (Esc)")
                             .clicked()
                         {

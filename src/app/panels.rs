@@ -229,6 +229,12 @@ impl Model {
         egui::CollapsingHeader::new(head("Contacts"))
             .default_open(true)
             .show(ui, |ui| ui::contacts_ui(ui, &shown.contacts, radius));
+        egui::CollapsingHeader::new(head("Export"))
+            .default_open(true)
+            .show(ui, |ui| {
+                ui::export_ui(ui, self.samples.len() > 1, actions);
+                ui.weak(format!("Files go to {}", self.out_dir.display()));
+            });
         egui::CollapsingHeader::new(head("Earlier throws"))
             .default_open(true)
             .show(ui, |ui| {
@@ -259,12 +265,6 @@ impl Model {
         egui::CollapsingHeader::new(head("Frame time"))
             .default_open(false)
             .show(ui, |ui| ui::timing_ui(ui, &shown.timing, adapter));
-        egui::CollapsingHeader::new(head("Export"))
-            .default_open(true)
-            .show(ui, |ui| {
-                ui::export_ui(ui, self.samples.len() > 1, actions);
-                ui.weak(format!("Files go to {}", self.out_dir.display()));
-            });
     }
 
     /// The 3D view: orbit (drag), pan (right or middle drag), zoom (wheel), frame all (double
@@ -278,7 +278,8 @@ impl Model {
                 self.stone_on_screen()
                     .is_some_and(|s| s.distance(p) < GESTURE_GRAB_RADIUS)
             };
-            self.gesture = resp.interact_pointer_pos().filter(|p| near(*p));
+            let origin = ui.input(|i| i.pointer.press_origin());
+            self.gesture = origin.or(resp.interact_pointer_pos()).filter(|p| near(*p));
         }
         if let Some(start) = self.gesture {
             if resp.drag_stopped() {

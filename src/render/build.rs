@@ -272,15 +272,30 @@ pub fn aim_preview(preset: &Preset) -> Vec<Line> {
         let t = t_end * k as f64 / n as f64;
         (p0 + v0 * t - DVec3::Z * (0.5 * g * t * t)).as_vec3()
     };
-    (0..n)
+    let color = [0.6, 0.95, 1.0, 0.9];
+    let mut lines: Vec<Line> = (0..n)
         .step_by(2)
         .map(|k| Line {
             a: at(k),
             b: at(k + 1),
             width_px: 2.5,
-            color: [0.6, 0.95, 1.0, 0.9],
+            color,
         })
-        .collect()
+        .collect();
+    // A ring where the centre of mass reaches the water.
+    let land = at(n).with_z(0.0);
+    let r = 0.25;
+    let ring = |k: usize| {
+        let a = k as f32 / 24.0 * std::f32::consts::TAU;
+        land + Vec3::new(a.cos(), a.sin(), 0.0) * r
+    };
+    lines.extend((0..24).map(|k| Line {
+        a: ring(k),
+        b: ring(k + 1),
+        width_px: 2.0,
+        color,
+    }));
+    lines
 }
 
 /// Ghosts of earlier throws: their trails as thin lines, older ones fainter.

@@ -222,7 +222,7 @@ pub fn ghosts_ui(ui: &mut Ui, rows: &[GhostRow]) {
             }
             ui.end_row();
             for r in rows.iter().rev() {
-                ui.label(RichText::new(format!("● #{}", r.number)).color(r.color));
+                ui.label(RichText::new(format!("#{}", r.number)).color(r.color));
                 ui.monospace(format!("{}", r.skips));
                 ui.monospace(format!("{:.2} m", r.distance));
                 ui.label(&r.outcome);
@@ -248,7 +248,7 @@ pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 3], end: f64) {
         ),
         (
             "wetted",
-            "wetted area (cm²)",
+            "wet (cm²)",
             egui::Color32::from_rgb(140, 230, 140),
         ),
     ];
