@@ -346,6 +346,7 @@ fn side_view_at_10x_shows_the_whole_trajectory_above_the_waterline() {
         let q = cam.project(p, W, H).unwrap();
         assert!(q.x >= 0.0 && q.x <= W as f32, "{p:?} at {q:?}");
     }
+    compare_with_reference(&img, "side_10x_t4.0_320x180.png");
 }
 
 #[test]

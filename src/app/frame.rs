@@ -222,9 +222,10 @@ fn draw(
         gfx.ui_fingerprint = Some(fingerprint);
         model.last_full_redraw = redraw == Redraw::Full;
         // A reduced-resolution frame of a still scene: follow it with a sharp one.
-        model.sharp_pending = model.animating()
+        model.sharp_pending = (model.animating()
             && model.view.render_scale < 1.0
-            && (model.phase != Phase::Running || model.resting);
+            && (model.phase != Phase::Running || model.resting))
+            || std::mem::take(&mut model.just_rested);
         let mut bufs = render_frame(
             gfx,
             model,

@@ -290,6 +290,8 @@ pub struct Model {
     pub sharp_pending: bool,
     /// The last frame redrew the panels too.
     pub last_full_redraw: bool,
+    /// The app has just come to rest: one more frame, sharp and with the panels up to date.
+    pub just_rested: bool,
     /// The run is over and the water calm: nothing steps or draws until there is input.
     pub resting: bool,
     /// Simulated time at which the outcome was first seen.
@@ -349,6 +351,7 @@ impl Model {
             camera_moved_at: None,
             sharp_pending: false,
             last_full_redraw: true,
+            just_rested: false,
             resting: false,
             outcome_time: None,
             last_drop: None,
@@ -562,6 +565,7 @@ impl Model {
             .map(|w| w.max_abs_eta() - swell_amplitude(&self.edit));
         if rest_due(true, since, eta) {
             self.resting = true;
+            self.just_rested = true;
             self.heights.refresh(&self.sim, self.generation);
         }
     }
@@ -853,9 +857,10 @@ impl Model {
             plot_end: end,
             timing: self.timing,
             outcome: self.sim.outcome().map(outcome_words),
-            dropping_now: self
-                .last_drop
-                .is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
+            dropping_now: !self.resting
+                && self
+                    .last_drop
+                    .is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
             dropped_total: self.clock.skipped_total(),
             at: Some(Instant::now()),
             frame: self.frames,

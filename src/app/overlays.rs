@@ -100,7 +100,8 @@ impl Model {
             return;
         };
         // Wake up when it is due to fade, even at rest.
-        ui.ctx().request_repaint_after(std::time::Duration::from_secs(1));
+        ui.ctx()
+            .request_repaint_after(std::time::Duration::from_secs(1));
         let rect = self.view_rect;
         egui::Area::new(egui::Id::unique("status_toast"))
             .order(egui::Order::Foreground)

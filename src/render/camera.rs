@@ -279,18 +279,20 @@ impl Camera {
         let extent = ((hi - lo) * Vec3::new(1.0, 1.0, 0.0))
             .dot(along.abs())
             .max(0.5);
-        let (z0, z1) = (lo.z.max(0.0) * k, hi.z.max(0.0) * k);
-        let height = (z1 - z0).max(0.2);
+        let z1 = hi.z.max(0.0) * k;
         let fov = SIDE_FOV_Y;
-        let fit_w = 0.5 * extent / ((0.5 * fov).tan() * aspect.max(0.2));
-        let fit_h = 0.5 * height / (0.5 * fov).tan();
-        let distance = 1.12 * fit_w.max(fit_h) + 0.5;
-        // Level with the middle of the flight, looking across the throw (+90° from its heading),
-        // so the path runs left to right; a shade down, so the waterline sits below the centre.
+        let half = (0.5 * fov).tan();
+        let fit_w = 0.5 * extent / (half * aspect.max(0.2));
+        // Looking across the throw (+90° from its heading) from an eye just above the water, so
+        // the horizon lies on the waterline as a plot's axis would, tilted up at the middle of the
+        // flight: the waterline sits between 55 % and 85 % of the height.
+        let distance = (1.12 * fit_w + 0.5).max(z1 / (1.4 * half)).max(0.5);
+        let tilt = (0.5 * z1 / distance).clamp(0.1 * half, 0.7 * half).atan();
+        let eye_z = 2.0 * MIN_EYE_HEIGHT;
         let mut cam = Self {
-            target: Vec3::new(centre.x, centre.y, 0.5 * (z0 + z1)),
+            target: Vec3::new(centre.x, centre.y, eye_z + tilt.sin() * distance),
             yaw: wrap_angle(heading + std::f32::consts::FRAC_PI_2),
-            pitch: -1.0_f32.to_radians(),
+            pitch: tilt,
             distance,
             fov_y: fov,
             exaggeration: k,

@@ -318,12 +318,15 @@ impl SceneRenderer {
         // A far stone is drawn enlarged (never below MIN_STONE_PX across).
         let scale = stone_scale(scene, viewport.height / self.render_scale.max(0.25));
         let (world_from_stone, radius) = match &scene.stone {
+            // Under vertical exaggeration the stone keeps its true shape at its exaggerated place.
             Some(s) => (
-                Mat4::from_scale_rotation_translation(
-                    Vec3::splat(scale),
-                    s.orientation.as_quat(),
-                    s.position.as_vec3(),
-                ),
+                Mat4::from_translation(s.position.as_vec3())
+                    * Mat4::from_scale(Vec3::new(1.0, 1.0, 1.0 / cam.exaggeration.max(1e-3)))
+                    * Mat4::from_scale_rotation_translation(
+                        Vec3::splat(scale),
+                        s.orientation.as_quat(),
+                        Vec3::ZERO,
+                    ),
                 s.radius as f32 * scale,
             ),
             None => (Mat4::IDENTITY, 0.05),
