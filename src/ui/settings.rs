@@ -610,4 +610,65 @@ mod tests {
         assert_eq!(parse_finite("20°"), Some(20.0));
         assert_eq!(parse_finite("-1e-3"), Some(-1e-3));
     }
+
+    /// Types `text` into a slider's value box as a user does (click the number, clear it, type,
+    /// Enter) and returns the value afterwards.
+    fn type_into_slider(start: f64, text: &str) -> f64 {
+        let ctx = egui::Context::default();
+        let mut value = start;
+        let mut t = 0.0;
+        let mut frame = |events: Vec<egui::Event>, value: &mut f64| -> egui::Rect {
+            t += 0.1;
+            let input = egui::RawInput {
+                screen_rect: Some(egui::Rect::from_min_size(
+                    egui::Pos2::ZERO,
+                    egui::vec2(800.0, 600.0),
+                )),
+                time: Some(t),
+                events,
+                ..Default::default()
+            };
+            let mut rect = egui::Rect::NOTHING;
+            let mut out = ctx.run_ui(input, |ui| {
+                rect = ui.add(slider(value, 0.5..=40.0).suffix(" m/s")).rect;
+            });
+            out.textures_delta.clear();
+            rect
+        };
+        let rect = frame(vec![], &mut value);
+        // The value box is at the slider's right end.
+        let p = egui::pos2(rect.right() - 12.0, rect.center().y);
+        let button = |pressed| egui::Event::PointerButton {
+            pos: p,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        let key = |key| egui::Event::Key {
+            key,
+            physical_key: None,
+            pressed: true,
+            repeat: false,
+            modifiers: egui::Modifiers::NONE,
+        };
+        frame(vec![egui::Event::PointerMoved(p), button(true)], &mut value);
+        frame(vec![button(false)], &mut value);
+        frame(vec![], &mut value);
+        let mut typing: Vec<egui::Event> = (0..16).map(|_| key(egui::Key::Backspace)).collect();
+        typing.extend((0..16).map(|_| key(egui::Key::Delete)));
+        typing.push(egui::Event::Text(text.to_owned()));
+        frame(typing, &mut value);
+        frame(vec![key(egui::Key::Enter)], &mut value);
+        frame(vec![], &mut value);
+        value
+    }
+
+    #[test]
+    fn typing_into_a_slider_takes_numbers_and_refuses_nan() {
+        // The typing path works: a number is taken …
+        assert_eq!(type_into_slider(12.5, "20"), 20.0);
+        // … "nan" and "inf" keep the old value (they used to set the maximum).
+        assert_eq!(type_into_slider(12.5, "nan"), 12.5);
+        assert_eq!(type_into_slider(12.5, "inf"), 12.5);
+    }
 }
