@@ -253,7 +253,8 @@ pub fn stone_scale(scene: &Scene, height_px: f32) -> f32 {
     }
 }
 
-/// A ring of 24 segments around a stone drawn smaller than twice [`MIN_STONE_PX`], facing the eye.
+/// A ring of 24 segments facing the eye around a stone drawn smaller than [`MIN_STONE_PX`] in
+/// radius, or under the water's surface, so it is never lost from view.
 fn halo(scene: &Scene, vp: Viewport, px: f32) -> Vec<Line> {
     let Some(s) = &scene.stone else {
         return Vec::new();
@@ -263,14 +264,16 @@ fn halo(scene: &Scene, vp: Viewport, px: f32) -> Vec<Line> {
     let dist = centre_v.distance(cam.eye()).max(1e-3);
     let ppm = px_per_m_at_unit_distance(cam.fov_y, vp.height / px) / dist;
     let r_px = s.radius as f32 * ppm;
-    if !(r_px.is_finite() && r_px < MIN_STONE_PX) {
+    // Small on screen, or under the surface (sunk, or planing with its centre below z = 0).
+    let hidden = s.position.z < 0.0;
+    if !(r_px.is_finite() && (r_px < MIN_STONE_PX || hidden)) {
         return Vec::new();
     }
     // Built in view space (exaggerated), then mapped back to the world the shaders expect.
     let f = cam.forward();
     let right = f.cross(Vec3::Z).normalize_or(Vec3::X);
     let up = right.cross(f);
-    let radius = 1.6 * MIN_STONE_PX / ppm;
+    let radius = (1.6 * MIN_STONE_PX).max(1.3 * r_px) / ppm;
     let n = 24;
     let pt = |k: usize| {
         let a = k as f32 / n as f32 * std::f32::consts::TAU;
