@@ -275,6 +275,8 @@ pub struct Model {
     pub pending_changes: bool,
     pub invalid: Option<String>,
     pub warnings: Vec<String>,
+    /// Notices of the run shown over the view (text, is an error).
+    pub notices: Vec<(String, bool)>,
     pub library: PresetLibrary,
     pub status: Option<Status>,
     pub screenshot: Option<Shot>,
@@ -317,6 +319,7 @@ impl Model {
         let dt = preset.physics.dt;
         let mut m = Self {
             warnings: setup_warnings(&preset),
+            notices: Vec::new(),
             edit: preset,
             sim,
             generation: 0,

@@ -80,11 +80,27 @@ impl Model {
             Color32::from_white_alpha(190),
         );
         let mut y = rect.top() + 42.0;
-        for w in &self.warnings {
+        let lines = self
+            .notices
+            .iter()
+            .map(|(t, error)| {
+                let c = if *error {
+                    Color32::from_rgb(255, 120, 100)
+                } else {
+                    Color32::from_rgb(150, 200, 255)
+                };
+                (t.clone(), c)
+            })
+            .chain(
+                self.warnings
+                    .iter()
+                    .map(|w| (format!("! {w}"), Color32::from_rgb(255, 200, 90))),
+            );
+        for (text, color) in lines {
             let galley = painter.layout(
-                format!("! {w}"),
+                text,
                 FontId::proportional(13.0),
-                Color32::from_rgb(255, 200, 90),
+                color,
                 (rect.width() - 28.0).max(100.0),
             );
             let h = galley.size().y;

@@ -152,6 +152,7 @@ impl Model {
         if controls.speed != self.clock.speed() {
             self.set_speed(controls.speed);
         }
+        self.notices = ui::notices(&controls);
     }
 
     /// Playback speed (the per-frame cap on ticks grows with it).

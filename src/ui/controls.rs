@@ -92,27 +92,29 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
             .color(egui::Color32::from_rgb(150, 200, 255)),
         );
     }
+}
+
+/// The run's passing notices (running behind, changes waiting, why the settings are refused),
+/// as (text, is an error) lines: the app draws them over the 3D view, so they never move the
+/// layout.
+pub fn notices(c: &SimControls) -> Vec<(String, bool)> {
+    let mut out = Vec::new();
     if c.dropping_now {
-        ui.label(
-            RichText::new(format!("running behind: {:.2} s of simulated time skipped", c.dropped_total))
-                .color(egui::Color32::from_rgb(255, 190, 80)),
-        )
-        .on_hover_text(
-            "A slow frame may run only so many ticks; the rest of the time is dropped (shown in slower \
-             motion), never squeezed into bigger steps: results are unchanged",
-        );
+        out.push((
+            format!(
+                "running behind: {:.2} s of simulated time skipped (results are unchanged)",
+                c.dropped_total
+            ),
+            false,
+        ));
     }
     if c.pending_changes {
-        ui.label(
-            RichText::new("changes apply on the next throw / reset")
-                .color(egui::Color32::from_rgb(150, 200, 255)),
-        );
+        out.push(("changes apply on the next throw / reset".to_owned(), false));
     }
     if let Some(why) = &c.invalid {
-        ui.label(
-            RichText::new(format!("invalid: {why}")).color(egui::Color32::from_rgb(255, 110, 100)),
-        );
+        out.push((format!("invalid: {why}"), true));
     }
+    out
 }
 
 /// Camera: behind, side (with its exaggeration), follow, top, frame all; which panels show;

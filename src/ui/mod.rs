@@ -15,7 +15,7 @@ mod settings;
 
 use std::path::PathBuf;
 
-pub use controls::{simulation_ui, view_ui};
+pub use controls::{notices, simulation_ui, view_ui};
 pub use help::{about_ui, help_ui, SHORTCUTS};
 pub use presets::{file_stem_for, presets_ui, PresetLibrary};
 pub use readouts::{
