@@ -447,3 +447,41 @@ fn render_refuses_an_exaggeration_it_does_not_offer() {
     .unwrap_err();
     assert!(format!("{e:#}").contains("exaggeration 7"), "{e:#}");
 }
+
+#[test]
+fn the_render_command_draws_every_camera() {
+    if offscreen().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let preset = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/presets/default.ron");
+    let mut pictures = Vec::new();
+    for view in ["behind", "side", "follow", "top"] {
+        let out = dir.path().join(format!("{view}.png"));
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_stoneskip"))
+            .args([
+                "render", "--width", "160", "--height", "90", "--time", "1.0",
+            ])
+            .args(["--view", view, "--exaggerate", "10", "--preset"])
+            .arg(&preset)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            status.status.success(),
+            "{view}: {}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+        pictures.push(image::open(&out).unwrap().to_rgba8());
+    }
+    // Four cameras, four different pictures.
+    for i in 0..pictures.len() {
+        for j in i + 1..pictures.len() {
+            assert!(
+                changed(&pictures[i], &pictures[j], 30).0 > 500,
+                "views {i} and {j} look alike"
+            );
+        }
+    }
+}
