@@ -67,6 +67,9 @@ impl Model {
             big,
             Color32::from_rgb(255, 230, 150),
         );
+        if self.view_mode == ViewMode::Side {
+            self.side_scale_ui(&painter);
+        }
         let hint = if self.phase == Phase::Ready {
             "Space or drag from the stone: throw   ·   1–4: cameras   ·   F1 or ?: help"
         } else {
@@ -108,6 +111,55 @@ impl Model {
             y += h + 4.0;
         }
         self.status_ui(ui, actions);
+    }
+
+    /// The side view's distance marks along the waterline (every 1, 2, 5 or 10 m from the launch)
+    /// and the legend of its ticks.
+    fn side_scale_ui(&self, painter: &egui::Painter) {
+        let rect = self.view_rect;
+        let f = self.framing();
+        let along = glam::Vec3::new(f.heading.cos(), f.heading.sin(), 0.0);
+        let to_screen = |d: f32| {
+            let p = f.launch.with_z(0.0) + along * d;
+            let (w, h) = (rect.width().max(1.0) as u32, rect.height().max(1.0) as u32);
+            self.camera
+                .project(p, w, h)
+                .map(|q| rect.min + egui::vec2(q.x, q.y))
+        };
+        let (Some(a), Some(b)) = (to_screen(0.0), to_screen(1.0)) else {
+            return;
+        };
+        let px_per_m = (b.x - a.x).abs().max(1e-3);
+        let step = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
+            .into_iter()
+            .find(|s| s * px_per_m >= 70.0)
+            .unwrap_or(100.0);
+        let color = Color32::from_rgb(20, 60, 110);
+        for k in 0..200 {
+            let d = k as f32 * step;
+            let Some(p) = to_screen(d) else { break };
+            if p.x > rect.right() - 10.0 || p.x < rect.left() {
+                if p.x > rect.right() {
+                    break;
+                }
+                continue;
+            }
+            painter.line_segment([p, p + egui::vec2(0.0, 6.0)], egui::Stroke::new(1.5, color));
+            painter.text(
+                p + egui::vec2(0.0, 8.0),
+                Align2::CENTER_TOP,
+                format!("{d:.0} m"),
+                FontId::proportional(12.0),
+                color,
+            );
+        }
+        painter.text(
+            rect.right_top() + egui::vec2(-14.0, 36.0),
+            Align2::RIGHT_TOP,
+            "ticks: green a skip, red the contact that stayed in the water",
+            FontId::proportional(12.5),
+            Color32::from_rgb(40, 60, 90),
+        );
     }
 
     /// The status message: a toast at the bottom of the view with a close button.
