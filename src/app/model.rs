@@ -792,7 +792,8 @@ impl Model {
         self.phase = Phase::Paused;
         self.resting = false;
         self.clock.set_paused(true);
-        self.tick_once();
+        // The clock runs exactly one tick at the next advance.
+        self.clock.request_step();
     }
 
     fn scene_edited(&mut self) {
@@ -959,6 +960,27 @@ mod tests {
         assert_eq!(m.sim.time(), t);
         assert_eq!(m.ticks_last_frame, 0);
         assert!(!m.animating() || m.camera_settling());
+    }
+
+    #[test]
+    fn step_runs_one_tick_and_stays_paused() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        let mut m = Model::new(p, None, Options::default()).unwrap();
+        m.handle(Action::Step);
+        m.advance(0.5);
+        assert_eq!(m.ticks, 1);
+        assert_eq!(m.phase, Phase::Paused);
+        m.advance(0.5);
+        assert_eq!(m.ticks, 1);
+        m.handle(Action::Step);
+        m.advance(0.0);
+        assert_eq!(m.ticks, 2);
+        // Resume: real time runs ticks again (0.1 s at the preset's dt).
+        m.handle(Action::TogglePause);
+        m.advance(0.1);
+        let due = (0.1 / m.sim.preset().physics.dt).round() as u64;
+        assert_eq!(m.ticks, 2 + due);
     }
 
     #[test]
