@@ -209,7 +209,7 @@ fn draw(
         let fresh_canvas = gfx.canvas.as_ref().map_or(true, |(s, _, _)| *s != size);
         let (canvas_tex, canvas) = canvas_view(gfx, size);
         // Software rasterisers without MSAA redraw only the 3D view while the panels are unchanged.
-        let fingerprint = ui_fingerprint(prims, ppp);
+        let fingerprint = ui_fingerprint(prims, ppp, model.view_rect);
         let redraw = if gfx.scene.config().sample_count == 1
             && !fresh_canvas
             && !textures_changed
@@ -433,12 +433,17 @@ enum Redraw {
     ViewOnly,
 }
 
-/// A fingerprint of egui's output: equal fingerprints draw equal pixels.
-fn ui_fingerprint(prims: &[egui::ClippedPrimitive], ppp: f32) -> u64 {
+/// A fingerprint of egui's output outside the 3D view: equal fingerprints draw equal panels.
+fn ui_fingerprint(prims: &[egui::ClippedPrimitive], ppp: f32, view: egui::Rect) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     ppp.to_bits().hash(&mut h);
-    for p in prims {
+    for v in [view.min.x, view.min.y, view.max.x, view.max.y] {
+        v.to_bits().hash(&mut h);
+    }
+    // What lies wholly inside the 3D view is drawn again by every partial redraw: only the rest
+    // (the panels, and what spans them) decides whether the panels must be redrawn.
+    for p in prims.iter().filter(|p| !view.contains_rect(p.clip_rect)) {
         for v in [
             p.clip_rect.min.x,
             p.clip_rect.min.y,

@@ -32,7 +32,7 @@ pub const PHYSICS_BUDGET: Duration = Duration::from_millis(60);
 /// Most step samples kept for the CSV export.
 pub const MAX_SAMPLES: usize = 1_000_000;
 /// Refresh rate of the numbers and plots while a throw animates …
-pub const READOUT_HZ: f64 = 4.0;
+pub const READOUT_HZ: f64 = 2.0;
 /// … and the fewest frames between two refreshes.
 pub const READOUT_MIN_FRAMES: u64 = 4;
 /// Ripples lower than this (m) are below what the eye sees at the app's views: about a tenth of a
