@@ -23,11 +23,7 @@ impl App {
         };
         let model = &mut self.model;
         let frame_start = Instant::now();
-        // Time since the last frame; after a wait (rest, idle) it is not frame time.
-        let real_dt = match self.last_frame {
-            Some(t) if self.continuous => frame_start.duration_since(t).as_secs_f64(),
-            _ => 0.0,
-        };
+        let real_dt = frame_gap(self.last_frame, frame_start, self.continuous);
         let was_resting = model.resting;
         self.last_frame = Some(frame_start);
 
@@ -157,6 +153,15 @@ impl App {
             model.view.render_scale,
             adapter
         )
+    }
+}
+
+/// Real time since the last frame (s) when the frames were drawn back to back; 0 after a wait
+/// (rest, idle), which is neither frame time nor time the simulation should catch up on.
+pub fn frame_gap(last: Option<Instant>, now: Instant, back_to_back: bool) -> f64 {
+    match last {
+        Some(t) if back_to_back => now.saturating_duration_since(t).as_secs_f64(),
+        _ => 0.0,
     }
 }
 
@@ -533,4 +538,24 @@ fn screenshot(
     let path = files::output_path(&model.out_dir, &model.sim.preset().name, "png");
     img.save_with_format(&path, image::ImageFormat::Png)?;
     Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn idle_time_is_not_frame_time() {
+        let t0 = Instant::now();
+        let t1 = t0 + Duration::from_millis(40);
+        assert!((frame_gap(Some(t0), t1, true) - 0.040).abs() < 1e-9);
+        // After a wait (the app rested, or drew only on input) the gap counts for nothing: the
+        // frame-time panel does not read "1 fps" and the clock does not fast-forward.
+        assert_eq!(
+            frame_gap(Some(t0), t0 + Duration::from_secs(30), false),
+            0.0
+        );
+        assert_eq!(frame_gap(None, t1, true), 0.0);
+    }
 }

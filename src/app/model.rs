@@ -776,7 +776,10 @@ impl Model {
             }
             Action::View(v) => self.apply_view(v),
             Action::Exaggerate(k) => self.exaggeration = k,
-            Action::DismissMessage => self.status = None,
+            Action::DismissMessage => {
+                self.status = None;
+                self.library.message = None;
+            }
             Action::SceneEdited => self.scene_edited(),
             Action::PhysicsEdited => self.physics_edited(),
         }

@@ -36,6 +36,8 @@ impl Model {
         self.refresh_shown();
         if self.status.as_ref().is_some_and(|s| s.expired()) {
             self.status = None;
+            // The presets panel's copy of the message goes with it.
+            self.library.message = None;
         }
         self.top_bar_ui(ui, actions);
         if self.view.show_settings {
