@@ -16,7 +16,7 @@ use super::options::Options;
 use super::replay::ReplayLog;
 use crate::preset;
 use crate::render::build::{self, aim_preview, framing_of, ghost_lines, side_guides, thinned};
-use crate::render::camera::{camera_for, throw_heading, Framing, ViewMode};
+use crate::render::camera::{camera_for, Framing, ViewMode};
 use crate::render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
 use crate::sim::params::{Integrator, Launch, Preset};
 use crate::sim::{Outcome, Simulation, StepSample};
@@ -908,11 +908,6 @@ impl Model {
             r.height().max(1.0) as u32,
         )?;
         Some(r.min + egui::vec2(p.x, p.y))
-    }
-
-    /// Throw direction from the launch on screen for the aim arrow (the heading of the preset).
-    pub fn heading(&self) -> f32 {
-        throw_heading(&self.edit)
     }
 }
 
