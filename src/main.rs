@@ -63,6 +63,12 @@ enum Command {
         /// Simulated time of the picture (s).
         #[arg(long, default_value_t = 0.0)]
         time: f64,
+        /// The app's camera: behind, side, follow or top.
+        #[arg(long, default_value = "behind")]
+        view: String,
+        /// The side view's vertical exaggeration: 1, 5, 10 or 20.
+        #[arg(long, default_value_t = 1.0)]
+        exaggerate: f32,
     },
     /// Runs a study (accuracy, stability, phase, defaults, fidelity; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
     Study {
@@ -99,9 +105,15 @@ fn run() -> Result<()> {
             width,
             height,
             time,
+            view,
+            exaggerate,
         }) => {
             let p = preset::load(&preset)?;
-            stoneskip::render::render_to_png(&p, &out, width, height, time)
+            let view = stoneskip::render::PictureView {
+                view: parse_view(&view).map_err(anyhow::Error::msg)?,
+                exaggeration: exaggerate,
+            };
+            stoneskip::render::render_to_png(&p, &out, width, height, time, view)
                 .with_context(|| format!("rendering {}", out.display()))
         }
         Some(Command::Study { name, out, quick }) => {
@@ -117,6 +129,17 @@ fn without_app() -> anyhow::Error {
         "this stoneskip was built without the `app` feature, so it has no window and no renderer \
          (`gui`, `render`); `simulate` and `study` work. Rebuild with the default features for the app."
     )
+}
+
+/// `--view`: one of the app's cameras.
+#[cfg(feature = "app")]
+fn parse_view(s: &str) -> Result<stoneskip::render::ViewMode, String> {
+    match stoneskip::render::ViewMode::parse(s) {
+        Some(stoneskip::render::ViewMode::Free) | None => Err(format!(
+            "unknown view \"{s}\" (expected behind, side, follow or top)"
+        )),
+        Some(v) => Ok(v),
+    }
 }
 
 fn simulate(path: &Path, json: bool, csv: Option<&Path>) -> Result<()> {
