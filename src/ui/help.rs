@@ -141,8 +141,29 @@ const MODEL: &[(&str, &str, &str)] = &[
     ),
     (
         "Wavy contact",
-        "Contact against the grid's height instead of z = 0; it needs cells of 1 cm or finer.",
-        "the paper (future work)",
+        "Contact against the grid's height instead of z = 0: the stone rides on the water its own \
+         pressure moves, which breaks up the steady planing glides of flat water (the shipped \
+         presets use it on 2 cm columns; distances agree within ~10 % from 1 to 5 cm).",
+        "the paper (future work); Hewitt et al. 2011; docs/studies/fidelity",
+    ),
+    (
+        "Buoyancy",
+        "Hydrostatic pressure ρ g d on each loaded face, d the depth of its wetted centroid: \
+         Archimedes' force, exact on planar faces.",
+        "Archimedes; Savitsky 1964 (buoyant lift of planing)",
+    ),
+    (
+        "Axial spin",
+        "Smooth: the pebble stands for a smooth body of revolution, whose spin about its axis \
+         moves no water normal to its surface; the facets then neither paddle nor spin it up.",
+        "design §4; docs/studies/fidelity",
+    ),
+    (
+        "Receding faces",
+        "Without ventilation the paper as printed pushes a face moving out of the water along −N \
+         (energy from nowhere); read energy-consistently each face's pressure opposes its own \
+         normal motion.",
+        "the paper, eq. 19; physics.md §7.1",
     ),
 ];
 

@@ -5,8 +5,9 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    ForceLaw, Integrator, Launch, Limiter, Physics, Precision, PressureCentre, Rotation, Shape,
-    StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
+    AxialSpin, ForceLaw, Integrator, Launch, Limiter, Physics, Precision, PressureCentre,
+    PressureSign, Rotation, Shape, StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS,
+    SAVITSKY_CENTRE,
 };
 
 use super::ViewSettings;
@@ -327,6 +328,31 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         );
         c |= ui.checkbox(&mut physics.ventilated, "").changed();
         ui.end_row();
+        if !physics.ventilated {
+            ui.label("Receding faces").on_hover_text(
+                "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed                  along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its                  own normal velocity (never gains energy).",
+            );
+            let before = physics.pressure_sign;
+            ui.horizontal(|ui| {
+                ui.radio_value(
+                    &mut physics.pressure_sign,
+                    PressureSign::AsPrinted,
+                    "As printed",
+                );
+                ui.radio_value(
+                    &mut physics.pressure_sign,
+                    PressureSign::OpposesMotion,
+                    "Opposes motion",
+                );
+            });
+            ui.end_row();
+            c |= before != physics.pressure_sign;
+        }
+        ui.label("Buoyancy").on_hover_text(
+            "Hydrostatic pressure ρ g d on each loaded face (Archimedes): matters once the stone is deep",
+        );
+        c |= ui.checkbox(&mut physics.buoyancy, "").changed();
+        ui.end_row();
         ui.label("Integrator");
         let before = physics.integrator;
         egui::ComboBox::from_id_salt("integrator")
@@ -382,6 +408,16 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
                 );
             }
             c |= before != physics.pressure_centre;
+            ui.label("Axial spin").on_hover_text(
+                "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves                  no water normal to its surface (only friction feels it). Faceted: the mesh's flat facets                  paddle the water as they spin.",
+            );
+            let before = physics.axial_spin;
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut physics.axial_spin, AxialSpin::Smooth, "Smooth");
+                ui.radio_value(&mut physics.axial_spin, AxialSpin::Faceted, "Faceted");
+            });
+            ui.end_row();
+            c |= before != physics.axial_spin;
         }
         c |= row(
             ui,
