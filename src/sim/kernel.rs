@@ -242,6 +242,13 @@ const NORMAL_SLACK: f64 = 1e-12;
 impl KernelMesh {
     /// From the centred mesh and its body-frame normals and areas.
     pub fn new(mesh: &Mesh, normals: &[DVec3], areas: &[f64]) -> Self {
+        let reach = mesh
+            .positions
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        // Faces that face apart go apart early (the top and bottom of a thin stone), so boxes are
+        // thin along their normals and wholly wet or dry more often.
         let items: Vec<Item> = mesh
             .triangles
             .iter()
@@ -249,7 +256,7 @@ impl KernelMesh {
             .map(|(tri, &n)| {
                 let c = tri.map(|i| mesh.positions[i as usize]);
                 Item {
-                    key: (c[0] + c[1] + c[2]) * (1.0 / 3.0),
+                    key: (c[0] + c[1] + c[2]) * (1.0 / 3.0) + n * reach,
                     lo: c[0].min(c[1]).min(c[2]),
                     hi: c[0].max(c[1]).max(c[2]),
                     nlo: n,
@@ -281,11 +288,6 @@ impl KernelMesh {
             .collect();
         let (vertex_nodes, vertex_order) = build_hierarchy(&vitems);
         let vertices = vertex_order.iter().map(|&i| mesh.positions[i]).collect();
-        let reach = mesh
-            .positions
-            .iter()
-            .map(|p| p.abs().max_element())
-            .fold(0.0, f64::max);
         Self {
             faces,
             face_nodes,
@@ -1121,6 +1123,9 @@ fn wet_faces_body<const LAW: u8, const ROT: bool>(
     }
     let mut chunks = list.chunks_exact(LANES);
     for ch in chunks.by_ref() {
+        if chunks_done {
+            continue;
+        }
         let idx = [ch[0], ch[1], ch[2], ch[3]].map(|j| j as usize);
         wet_chunk::<LANES, LAW, ROT, _>(c, faces, Gathered(idx), &mut acc.listed, loads);
     }
@@ -1144,7 +1149,8 @@ unsafe fn wet_faces_avx2<const LAW: u8, const ROT: bool>(
         let full = range.start + (range.len() / LANES) * LANES;
         // SAFETY: AVX2 is enabled in this function; the chunks lie inside the face arrays.
         unsafe {
-            simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks, loads)
+            simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks, loads);
+            simd::plain_list::<LAW, ROT>(c, faces, list, &mut acc.listed, loads);
         };
     }
     wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, plain)
@@ -1207,7 +1213,56 @@ mod simd {
         la: &mut LaneAcc<4>,
         loads: &mut Vec<FaceLoad>,
     ) {
-        assert!(end <= f.len() && (end - start) % 4 == 0);
+        // SAFETY: AVX2 is enabled here as in the caller.
+        unsafe { chunks::<LAW, ROT, false>(c, f, start, end, &[], la, loads) }
+    }
+
+    /// Faces `list` (whole chunks of four; the rest is left to the caller) into `la`.
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn plain_list<const LAW: u8, const ROT: bool>(
+        c: &Ctx,
+        f: &FaceSoa,
+        list: &[u32],
+        la: &mut LaneAcc<4>,
+        loads: &mut Vec<FaceLoad>,
+    ) {
+        let n = list.len() / 4 * 4;
+        // SAFETY: AVX2 is enabled here as in the caller.
+        unsafe { chunks::<LAW, ROT, true>(c, f, 0, n, list, la, loads) }
+    }
+
+    /// Faces `start..end` of the arrays, or of `list` when `GATHER`.
+    #[target_feature(enable = "avx2")]
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn chunks<const LAW: u8, const ROT: bool, const GATHER: bool>(
+        c: &Ctx,
+        f: &FaceSoa,
+        start: usize,
+        end: usize,
+        list: &[u32],
+        la: &mut LaneAcc<4>,
+        loads: &mut Vec<FaceLoad>,
+    ) {
+        assert!((end - start) % 4 == 0);
+        if GATHER {
+            assert!(end <= list.len() && list.iter().all(|&j| (j as usize) < f.len()));
+        } else {
+            assert!(end <= f.len());
+        }
+        let index = |k: usize| if GATHER { list[k] as usize } else { k };
+        let ld = |col: &[f64], k: usize| {
+            if GATHER {
+                _mm256_set_pd(
+                    col[list[k + 3] as usize],
+                    col[list[k + 2] as usize],
+                    col[list[k + 1] as usize],
+                    col[list[k] as usize],
+                )
+            } else {
+                // SAFETY: k + 4 ≤ end ≤ len (asserted above).
+                unsafe { ld(col, k) }
+            }
+        };
         let set = |x: f64| _mm256_set1_pd(x);
         let (vx0, vy0, vz0) = (set(c.v.x), set(c.v.y), set(c.v.z));
         let (wx, wy, wz) = (set(c.w.x), set(c.w.y), set(c.w.z));
@@ -1230,9 +1285,9 @@ mod simd {
         let mut i = start;
         while i < end {
             // SAFETY: i + 4 ≤ end ≤ len.
-            let (nx, ny, nz) = unsafe { (ld(&f.n[0], i), ld(&f.n[1], i), ld(&f.n[2], i)) };
-            let (gx, gy, gz) = unsafe { (ld(&f.g[0], i), ld(&f.g[1], i), ld(&f.g[2], i)) };
-            let area = unsafe { ld(&f.area, i) };
+            let (nx, ny, nz) = (ld(&f.n[0], i), ld(&f.n[1], i), ld(&f.n[2], i));
+            let (gx, gy, gz) = (ld(&f.g[0], i), ld(&f.g[1], i), ld(&f.g[2], i));
+            let area = ld(&f.area, i);
             let (vx, vy, vz) = if ROT {
                 (
                     _mm256_add_pd(
@@ -1332,7 +1387,7 @@ mod simd {
                 }
                 for l in 0..4 {
                     if mask[l].to_bits() != 0 {
-                        let j = i + l;
+                        let j = index(i + l);
                         let fl = DVec3::new(out[0][l], out[1][l], out[2][l]);
                         loads.push(c.load(f.centroid(j), fl, f.normal(j), f.area[j]));
                     }
