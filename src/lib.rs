@@ -3,11 +3,18 @@
 //! Layers (imports run one way): `app` → `ui`, `render` → `sim`. `sim` is the physics and knows
 //! nothing of frames or windows; `preset` and `report` are its file formats; `study` runs the
 //! speed-versus-accuracy studies.
+//!
+//! Features: `app` (default) builds the desktop app, the renderer and the UI, and turns on
+//! `charts`, the studies' PNG charts. With `--no-default-features` the crate is the physics, the
+//! file formats and the headless studies (CSV and Markdown), and needs none of the graphics crates.
 
+#[cfg(feature = "app")]
 pub mod app;
 pub mod preset;
+#[cfg(feature = "app")]
 pub mod render;
 pub mod report;
 pub mod sim;
 pub mod study;
+#[cfg(feature = "app")]
 pub mod ui;

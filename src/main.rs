@@ -26,6 +26,9 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
+// Built without the `app` feature, `gui` and `render` are still parsed, to answer with a clear
+// message, but their arguments are never read.
+#[cfg_attr(not(feature = "app"), allow(dead_code))]
 enum Command {
     /// Opens the desktop app (the default).
     Gui {
@@ -60,8 +63,14 @@ enum Command {
         /// Simulated time of the picture (s).
         #[arg(long, default_value_t = 0.0)]
         time: f64,
+        /// The app's camera: behind, side, follow or top.
+        #[arg(long, default_value = "behind")]
+        view: String,
+        /// The side view's vertical exaggeration: 1, 5, 10 or 20.
+        #[arg(long, default_value_t = 1.0)]
+        exaggerate: f32,
     },
-    /// Runs a study (accuracy, stability, phase, defaults; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
+    /// Runs a study (accuracy, stability, phase, defaults, fidelity; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
     Study {
         name: String,
         #[arg(long)]
@@ -82,23 +91,54 @@ fn main() {
 fn run() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
+        #[cfg(feature = "app")]
         None => stoneskip::app::run_app(None, None),
+        #[cfg(feature = "app")]
         Some(Command::Gui { preset, frames }) => stoneskip::app::run_app(preset, frames),
+        #[cfg(not(feature = "app"))]
+        None | Some(Command::Gui { .. }) | Some(Command::Render { .. }) => Err(without_app()),
         Some(Command::Simulate { preset, json, csv }) => simulate(&preset, json, csv.as_deref()),
+        #[cfg(feature = "app")]
         Some(Command::Render {
             preset,
             out,
             width,
             height,
             time,
+            view,
+            exaggerate,
         }) => {
             let p = preset::load(&preset)?;
-            stoneskip::render::render_to_png(&p, &out, width, height, time)
+            let view = stoneskip::render::PictureView {
+                view: parse_view(&view).map_err(anyhow::Error::msg)?,
+                exaggeration: exaggerate,
+            };
+            stoneskip::render::render_to_png(&p, &out, width, height, time, view)
                 .with_context(|| format!("rendering {}", out.display()))
         }
         Some(Command::Study { name, out, quick }) => {
             stoneskip::study::run_study(&name, &out, quick)
         }
+    }
+}
+
+/// The answer of a headless build to `gui`, `render` or no subcommand.
+#[cfg(not(feature = "app"))]
+fn without_app() -> anyhow::Error {
+    anyhow::anyhow!(
+        "this stoneskip was built without the `app` feature, so it has no window and no renderer \
+         (`gui`, `render`); `simulate` and `study` work. Rebuild with the default features for the app."
+    )
+}
+
+/// `--view`: one of the app's cameras.
+#[cfg(feature = "app")]
+fn parse_view(s: &str) -> Result<stoneskip::render::ViewMode, String> {
+    match stoneskip::render::ViewMode::parse(s) {
+        Some(stoneskip::render::ViewMode::Free) | None => Err(format!(
+            "unknown view \"{s}\" (expected behind, side, follow or top)"
+        )),
+        Some(v) => Ok(v),
     }
 }
 

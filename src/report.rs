@@ -31,6 +31,9 @@ pub fn text_summary(s: &Summary) -> String {
         s.steps,
         s.force_evals
     ));
+    if let Some(reason) = &s.diverged_reason {
+        out.push_str(&format!("diverged: {reason}\n"));
+    }
     if let Some(w) = &s.water {
         let drift = if w.volume_initial > 0.0 {
             (w.volume_final - w.volume_initial) / w.volume_initial
@@ -165,5 +168,52 @@ impl<W: Write> CsvWriter<W> {
     pub fn finish(mut self) -> std::io::Result<W> {
         self.out.flush()?;
         Ok(self.out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::Outcome;
+
+    fn diverged() -> Summary {
+        Summary {
+            schema: 1,
+            name: "test".into(),
+            outcome: Some(Outcome::Diverged),
+            diverged_reason: Some("the Paper integrator's state became non-finite".into()),
+            skips: 0,
+            distance: 1.0,
+            final_time: 0.5,
+            steps: 10,
+            force_evals: 10,
+            contacts: Vec::new(),
+            water: None,
+        }
+    }
+
+    /// A diverged run says so, with its reason, in the text and in the JSON (design.md §7's fields
+    /// kept, `diverged_reason` added).
+    #[test]
+    fn diverged_run_is_reported_with_its_reason() {
+        let s = diverged();
+        let text = text_summary(&s);
+        assert!(text.contains("outcome diverged"), "{text}");
+        assert!(text.contains("diverged: the Paper integrator"), "{text}");
+        let v: serde_json::Value = serde_json::from_str(&json_summary(&s).unwrap()).unwrap();
+        assert_eq!(v["outcome"], "diverged");
+        assert_eq!(
+            v["diverged_reason"],
+            "the Paper integrator's state became non-finite"
+        );
+        for key in ["schema", "name", "skips", "distance", "final_time", "steps"] {
+            assert!(v.get(key).is_some(), "{key}");
+        }
+        let mut ok = s;
+        ok.outcome = Some(Outcome::Sank);
+        ok.diverged_reason = None;
+        let v: serde_json::Value = serde_json::from_str(&json_summary(&ok).unwrap()).unwrap();
+        assert!(v["diverged_reason"].is_null());
+        assert!(!text_summary(&ok).contains("diverged"));
     }
 }

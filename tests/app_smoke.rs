@@ -1,25 +1,62 @@
 //! The desktop app under a display: opens the window, throws (`STONESKIP_AUTOTHROW=1`), renders a
-//! few frames and exits 0. Needs a display — run it as `xvfb-run -a cargo test --test app_smoke`;
-//! without one it says so and passes (the picture tests in `render.rs` cover the renderer headless).
+//! few frames in each camera and exits 0. Needs a display — run it as
+//! `xvfb-run -a cargo test --test app_smoke`. Without one it FAILS when `STONESKIP_REQUIRE_DISPLAY=1`
+//! (CI sets it, so a smoke test that could not run never passes there) and otherwise says it
+//! skipped (the picture tests in `render.rs` cover the renderer headless).
 
 use std::process::Command;
 
-#[test]
-fn gui_renders_frames_and_exits_cleanly() {
-    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
-        eprintln!("SKIPPED: no display; run `xvfb-run -a cargo test --test app_smoke`");
-        return;
+/// Whether the window tests can run; panics when they must and cannot.
+fn display_available() -> bool {
+    let has =
+        std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some();
+    let required = std::env::var("STONESKIP_REQUIRE_DISPLAY").is_ok_and(|v| v == "1");
+    if !has && required {
+        panic!(
+            "STONESKIP_REQUIRE_DISPLAY=1 but there is no display (DISPLAY or WAYLAND_DISPLAY): \
+             run `xvfb-run -a cargo test --test app_smoke`"
+        );
     }
+    if !has {
+        eprintln!("SKIPPED: no display; run `xvfb-run -a cargo test --test app_smoke`");
+    }
+    has
+}
+
+fn run_gui(frames: u32, view: &str) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_stoneskip"))
-        .args(["gui", "--frames", "30"])
+        .args(["gui", "--frames", &frames.to_string()])
         .env("STONESKIP_AUTOTHROW", "1")
         .env("STONESKIP_FPS_REPORT", "1")
+        .env("STONESKIP_VIEW", view)
+        .env("STONESKIP_EXAGGERATE", "10")
         .output()
         .expect("the stoneskip binary runs");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "stoneskip gui failed: {stderr}");
-    assert!(stderr.contains("30 frames"), "no frame report: {stderr}");
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(
+        out.status.success(),
+        "stoneskip gui ({view}) failed: {stderr}"
+    );
+    // A window that could not get an adapter fails above; one that drew reports its frames.
+    assert!(
+        stderr.contains(&format!("{frames} frames")),
+        "no frame report: {stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+#[test]
+fn gui_renders_frames_in_every_view_and_exits_cleanly() {
+    if !display_available() {
+        return;
+    }
+    let report = run_gui(30, "follow");
+    // The throw ran: ticks were stepped and simulated time advanced.
+    assert!(!report.contains(" 0 ticks"), "{report}");
+    for view in ["behind", "side", "top"] {
+        run_gui(12, view);
+    }
 }
 
 #[test]

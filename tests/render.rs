@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
-use stoneskip::render::{Offscreen, SceneStyle, SimulatedScene};
+use stoneskip::render::{Offscreen, PictureView, SceneStyle, SimulatedScene, ViewMode};
 use stoneskip::sim::params::Preset;
 
 const W: u32 = 320;
@@ -244,8 +244,244 @@ fn render_to_png_writes_rgba8() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("shot.png");
     // A width whose rows need padding to 256 bytes on readback.
-    stoneskip::render::render_to_png(&default_preset(), &out, 203, 101, 0.2).unwrap();
+    stoneskip::render::render_to_png(
+        &default_preset(),
+        &out,
+        203,
+        101,
+        0.2,
+        PictureView::default(),
+    )
+    .unwrap();
     let img = image::open(&out).unwrap();
     assert_eq!(img.color(), image::ColorType::Rgba8);
     assert_eq!((img.width(), img.height()), (203, 101));
+}
+
+/// Pixels that differ by more than `threshold` in some channel: (count, x range, y range).
+fn changed(
+    a: &image::RgbaImage,
+    b: &image::RgbaImage,
+    threshold: u8,
+) -> (usize, (u32, u32), (u32, u32)) {
+    let mut n = 0;
+    let (mut x0, mut x1, mut y0, mut y1) = (u32::MAX, 0, u32::MAX, 0);
+    for (x, y, p) in a.enumerate_pixels() {
+        let q = b.get_pixel(x, y);
+        if (0..3).any(|c| p[c].abs_diff(q[c]) > threshold) {
+            n += 1;
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+    }
+    (n, (x0, x1), (y0, y1))
+}
+
+/// The default throw after its outcome (3.84 s): the whole trajectory is in the trail.
+fn finished_default() -> SimulatedScene {
+    let state = SimulatedScene::at_time(&default_preset(), 4.0).unwrap();
+    assert!(state.sim.is_finished());
+    state
+}
+
+/// The picture of `view` with and without the trail (its pixels are where the two differ).
+fn with_and_without_trail(
+    off: &mut Offscreen,
+    state: &SimulatedScene,
+    view: ViewMode,
+    exaggeration: f32,
+) -> (
+    image::RgbaImage,
+    image::RgbaImage,
+    stoneskip::render::Camera,
+) {
+    let aspect = W as f32 / H as f32;
+    let on = state.scene_for_view(SceneStyle::default(), view, exaggeration, aspect);
+    let off_style = SceneStyle {
+        show_trail: false,
+        ..SceneStyle::default()
+    };
+    let without = state.scene_for_view(off_style, view, exaggeration, aspect);
+    (
+        off.render(&on, W, H).unwrap(),
+        off.render(&without, W, H).unwrap(),
+        on.camera,
+    )
+}
+
+#[test]
+fn side_view_at_10x_shows_the_whole_trajectory_above_the_waterline() {
+    let Some(mut off) = offscreen() else { return };
+    let state = finished_default();
+    let (img, no_trail, cam) = with_and_without_trail(&mut off, &state, ViewMode::Side, 10.0);
+    if std::env::var("STONESKIP_KEEP_PICTURES").is_ok_and(|v| v == "1") {
+        let _ = img.save(std::env::temp_dir().join("stoneskip-side-10x.png"));
+    }
+    let (n, (x0, x1), (y0, _)) = changed(&img, &no_trail, 30);
+    assert!(n > 200, "only {n} trajectory pixels");
+    // From the launch to where it sank (20.4 m): most of the picture's width.
+    assert!(
+        (x1 - x0) as f32 > 0.7 * W as f32,
+        "the trajectory spans x {x0}..{x1} of {W}"
+    );
+    // The waterline lies in the picture, and the first arc rises well above it: 0.3 m × 10.
+    let launch = state.sim.launch_position().as_vec3();
+    let water_px = cam
+        .project(launch.with_z(0.0), W, H)
+        .expect("the waterline is in front of the camera");
+    assert!(
+        water_px.y > 0.0 && water_px.y < H as f32,
+        "waterline at {water_px:?}"
+    );
+    assert!(
+        water_px.y - (y0 as f32) > 0.2 * H as f32,
+        "the trajectory's top {y0} is not well above the waterline at {}",
+        water_px.y
+    );
+    // The launch and the end point both project inside the picture.
+    let end = state.sim.state().position.as_vec3();
+    for p in [launch, end] {
+        let q = cam.project(p, W, H).unwrap();
+        assert!(q.x >= 0.0 && q.x <= W as f32, "{p:?} at {q:?}");
+    }
+    compare_with_reference(&img, "side_10x_t4.0_320x180.png");
+}
+
+#[test]
+fn exaggeration_makes_the_arcs_taller() {
+    let Some(mut off) = offscreen() else { return };
+    let state = finished_default();
+    let height = |off: &mut Offscreen, k: f32| {
+        let (img, no_trail, _) = with_and_without_trail(off, &state, ViewMode::Side, k);
+        let (_, _, (y0, y1)) = changed(&img, &no_trail, 30);
+        y1.saturating_sub(y0)
+    };
+    let (h1, h10) = (height(&mut off, 1.0), height(&mut off, 10.0));
+    // At 1× the 0.3 m arcs over 20 m are a few pixels tall; at 10× many times that.
+    assert!(h10 > 4 * h1.max(1), "1×: {h1} px, 10×: {h10} px");
+}
+
+#[test]
+fn top_view_shows_the_throw_running_up_the_picture() {
+    let Some(mut off) = offscreen() else { return };
+    let state = finished_default();
+    let (img, no_trail, _) = with_and_without_trail(&mut off, &state, ViewMode::Top, 1.0);
+    let (n, _, (y0, y1)) = changed(&img, &no_trail, 30);
+    assert!(n > 50, "only {n} trajectory pixels");
+    assert!(
+        (y1 - y0) as f32 > 0.6 * H as f32,
+        "the trajectory spans y {y0}..{y1}"
+    );
+}
+
+#[test]
+fn follow_view_shows_the_stone_large_in_the_middle() {
+    let Some(mut off) = offscreen() else { return };
+    let state = SimulatedScene::at_time(&default_preset(), 0.3).unwrap();
+    let scene = state.scene_for_view(
+        SceneStyle::default(),
+        ViewMode::Follow,
+        1.0,
+        W as f32 / H as f32,
+    );
+    let with = off.render(&scene, W, H).unwrap();
+    let mut none = scene.clone();
+    none.stone = None;
+    let without = off.render(&none, W, H).unwrap();
+    let (n, (x0, x1), (y0, y1)) = changed(&with, &without, 20);
+    // The chase camera is close: the stone covers a good patch near the centre.
+    assert!(n > 400, "the stone covers only {n} pixels");
+    let (cx, cy) = ((x0 + x1) as f32 / 2.0, (y0 + y1) as f32 / 2.0);
+    assert!(
+        (cx - W as f32 / 2.0).abs() < 0.2 * W as f32,
+        "stone at x {cx}"
+    );
+    assert!(
+        (cy - H as f32 / 2.0).abs() < 0.3 * H as f32,
+        "stone at y {cy}"
+    );
+}
+
+#[test]
+fn a_far_stone_is_never_drawn_smaller_than_12_pixels() {
+    let Some(mut off) = offscreen() else { return };
+    // Behind the launch point, the stone 6 m away: 10 cm across is about 5 px at this size.
+    let state = SimulatedScene::at_time(&default_preset(), 0.7).unwrap();
+    let scene = state.scene(SceneStyle {
+        show_trail: false,
+        show_markers: false,
+        show_splashes: false,
+        ripple_gain: 1.0,
+    });
+    let with = off.render(&scene, W, H).unwrap();
+    let mut none = scene.clone();
+    none.stone = None;
+    let without = off.render(&none, W, H).unwrap();
+    let (n, (x0, x1), (y0, y1)) = changed(&with, &without, 20);
+    assert!(
+        x1 - x0 + 1 >= 12 && y1 - y0 + 1 >= 12,
+        "drawn {}×{} px",
+        x1 - x0 + 1,
+        y1 - y0 + 1
+    );
+    assert!(n > 60, "only {n} pixels");
+}
+
+#[test]
+fn render_refuses_an_exaggeration_it_does_not_offer() {
+    let dir = tempfile::tempdir().unwrap();
+    let view = PictureView {
+        view: ViewMode::Side,
+        exaggeration: 7.0,
+    };
+    let e = stoneskip::render::render_to_png(
+        &default_preset(),
+        &dir.path().join("x.png"),
+        64,
+        36,
+        0.0,
+        view,
+    )
+    .unwrap_err();
+    assert!(format!("{e:#}").contains("exaggeration 7"), "{e:#}");
+}
+
+#[test]
+fn the_render_command_draws_every_camera() {
+    if offscreen().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let preset = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/presets/default.ron");
+    let mut pictures = Vec::new();
+    for view in ["behind", "side", "follow", "top"] {
+        let out = dir.path().join(format!("{view}.png"));
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_stoneskip"))
+            .args([
+                "render", "--width", "160", "--height", "90", "--time", "1.0",
+            ])
+            .args(["--view", view, "--exaggerate", "10", "--preset"])
+            .arg(&preset)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            status.status.success(),
+            "{view}: {}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+        pictures.push(image::open(&out).unwrap().to_rgba8());
+    }
+    // Four cameras, four different pictures.
+    for i in 0..pictures.len() {
+        for j in i + 1..pictures.len() {
+            assert!(
+                changed(&pictures[i], &pictures[j], 30).0 > 500,
+                "views {i} and {j} look alike"
+            );
+        }
+    }
 }

@@ -4,51 +4,20 @@
 
 #![allow(clippy::field_reassign_with_default)]
 
+mod common;
+
+use common::{
+    clanet_at_impact, clanet_free as clanet, fit_exponent, logspace, spin_counts, spin_limited,
+    spin_point, spin_threshold, typical, CENTRES,
+};
 use glam::{DMat3, DQuat, DVec3};
 use stoneskip::sim::integrate::torque_free;
 use stoneskip::sim::params::{
-    Attitude, ForceLaw, Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams,
-    SAVITSKY_CENTRE,
+    Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams, SAVITSKY_CENTRE,
 };
-use stoneskip::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
+use stoneskip::sim::scenario::first_contact;
 use stoneskip::sim::stone::Stone;
 use stoneskip::sim::Simulation;
-use stoneskip::study::spin;
-
-const REV: f64 = std::f64::consts::TAU;
-
-fn clanet(tilt_deg: f64, spin_rev_s: f64) -> Preset {
-    let mut p = Preset::default();
-    p.stone = StoneParams {
-        shape: Shape::Disk {
-            radius: 0.025,
-            thickness: 0.00275,
-        },
-        mass: 0.014579,
-        segments: 48,
-    };
-    p.launch.attitude = Attitude {
-        tilt_deg,
-        bank_deg: 0.0,
-        heading_deg: 0.0,
-    };
-    p.launch.spin = spin_rev_s * REV;
-    p.physics.force_law = ForceLaw::Rosellini;
-    p.physics.rotation = Rotation::Free;
-    p.water.enabled = false;
-    p
-}
-
-/// Clanet's throw at impact: U = 3.5 m/s, β = 20°.
-fn clanet_at_impact(tilt_deg: f64, spin_rev_s: f64) -> Preset {
-    at_impact(
-        &clanet(tilt_deg, spin_rev_s),
-        3.5,
-        20f64.to_radians(),
-        IMPACT_CLEARANCE,
-    )
-    .unwrap()
-}
 
 /// Angle (degrees) between the stone's axis at the first contact's start and end.
 fn first_contact_axis_turn(p: &Preset) -> (bool, f64, [f64; 3], [f64; 3]) {
@@ -259,7 +228,7 @@ fn more_spin_never_fewer_skips() {
     for (vx, vz, tilt) in [(6.0, -0.5, 20.0), (9.0, -0.8, 20.0), (12.0, -0.5, 15.0)] {
         let mut rows = Vec::new();
         for rev_s in (0..=15).map(|i| 10.0 * i as f64) {
-            let mut p = spin::typical(Some(rev_s), PressureCentre::Faces);
+            let mut p = typical(Some(rev_s), PressureCentre::Faces);
             p.launch.velocity = [vx, 0.0, vz];
             p.launch.attitude.tilt_deg = tilt;
             let s = stoneskip::sim::simulate(&p).unwrap();
@@ -294,11 +263,11 @@ fn more_spin_never_fewer_skips() {
 /// Tolerance: ±0.35 on the exponent, for integer counts of 2–5 over less than a decade of spin.
 #[test]
 fn spin_limited_count_grows_linearly_not_quadratically() {
-    let spins = stoneskip::study::logspace(40.0, 155.0, 13);
-    let counts = spin::spin_counts(PressureCentre::Faces, &spins).unwrap();
-    let (raw, alone) = spin::spin_limited(&counts);
-    let p_raw = spin::fit_exponent(&raw).unwrap();
-    let p = spin::fit_exponent(&alone).unwrap();
+    let spins = logspace(40.0, 155.0, 13);
+    let counts = spin_counts(PressureCentre::Faces, &spins).unwrap();
+    let (raw, alone) = spin_limited(&counts);
+    let p_raw = fit_exponent(&raw).unwrap();
+    let p = fit_exponent(&alone).unwrap();
     eprintln!(
         "counts {:?}",
         counts
@@ -318,8 +287,8 @@ fn spin_limited_count_grows_linearly_not_quadratically() {
 /// torque pitches the stone over.
 #[test]
 fn vc12_inclination_nearly_unchanged_at_65_rev_s() {
-    for centre in spin::CENTRES {
-        let p = spin::spin_point(20.0, 65.0, centre).unwrap();
+    for centre in CENTRES {
+        let p = spin_point(20.0, 65.0, centre).unwrap();
         eprintln!("{centre:?}: {p:?}");
         assert!(p.first_skip, "{centre:?}: skips");
         assert!(p.inclination_change.abs() < 3.0, "{centre:?}: {p:?}");
@@ -327,7 +296,7 @@ fn vc12_inclination_nearly_unchanged_at_65_rev_s() {
             p.axis_turn > 2.0 * p.inclination_change.abs(),
             "{centre:?}: {p:?}"
         );
-        let still = spin::spin_point(20.0, 0.0, centre).unwrap();
+        let still = spin_point(20.0, 0.0, centre).unwrap();
         assert!(
             still.inclination_change < -10.0,
             "{centre:?} without spin: {still:?}"
@@ -340,13 +309,13 @@ fn vc12_inclination_nearly_unchanged_at_65_rev_s() {
 /// to skip at α = 35° falls towards the literature's one revolution per contact.
 #[test]
 fn planing_centre_precesses_less() {
-    let faces = spin::spin_point(20.0, 65.0, PressureCentre::Faces).unwrap();
-    let planing = spin::spin_point(20.0, 65.0, PressureCentre::Planing(SAVITSKY_CENTRE)).unwrap();
+    let faces = spin_point(20.0, 65.0, PressureCentre::Faces).unwrap();
+    let planing = spin_point(20.0, 65.0, PressureCentre::Planing(SAVITSKY_CENTRE)).unwrap();
     assert!(planing.axis_turn < faces.axis_turn, "{faces:?} {planing:?}");
-    let tf = spin::spin_threshold(35.0, PressureCentre::Faces, 100.0, 1.0)
+    let tf = spin_threshold(35.0, PressureCentre::Faces, 100.0, 1.0)
         .unwrap()
         .unwrap();
-    let tp = spin::spin_threshold(35.0, PressureCentre::Planing(SAVITSKY_CENTRE), 100.0, 1.0)
+    let tp = spin_threshold(35.0, PressureCentre::Planing(SAVITSKY_CENTRE), 100.0, 1.0)
         .unwrap()
         .unwrap();
     eprintln!(
@@ -386,4 +355,61 @@ fn locked_results_ignore_spin() {
     let sa = stoneskip::sim::simulate(&a).unwrap();
     let sb = stoneskip::sim::simulate(&b).unwrap();
     assert_eq!(sa, sb);
+}
+
+/// A tumbling disc whose lowest point is clear of the water at both ends of a tick still dips in
+/// between: a 10 cm disc at 2 cm, flat, flipping about a diameter half a turn per tick, is edge-on
+/// (3 cm under) mid-tick. The flight's clearance is bounded along the exact torque-free motion and
+/// the interval halved where the bound allows a touch, so the contact is found, and its start is
+/// the first touch of the exact motion (found here by brute force on 200 000 samples of the tick).
+#[test]
+fn tumbling_stone_grazes_inside_a_tick() {
+    use stoneskip::sim::hydro::{lowest_clearance, FlatSurface};
+    use stoneskip::sim::integrate::flight;
+    let dt = 0.005;
+    for integrator in [Integrator::Adaptive, Integrator::Rk4, Integrator::Paper] {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        p.stone = StoneParams {
+            shape: Shape::Disk {
+                radius: 0.05,
+                thickness: 0.01,
+            },
+            mass: 0.1,
+            segments: 48,
+        };
+        p.physics.rotation = Rotation::Free;
+        p.physics.integrator = integrator;
+        p.physics.dt = dt;
+        p.launch.position = [0.0, 0.0, 0.02];
+        p.launch.velocity = [5.0, 0.0, 0.0];
+        p.launch.attitude.tilt_deg = 0.0;
+        p.launch.spin = 0.0;
+        p.launch.angular_velocity = [0.0, std::f64::consts::PI / dt, 0.0];
+        let mut sim = Simulation::new(&p).unwrap();
+        let s0 = *sim.state();
+        let clear = |t: f64| {
+            let s = flight(sim.stone(), Rotation::Free, p.physics.gravity, &s0, t);
+            lowest_clearance(sim.stone(), s.position, s.orientation, &FlatSurface)
+        };
+        assert!(
+            clear(0.0) > 0.004 && clear(dt) > 0.004,
+            "clear at both ends"
+        );
+        let n = 200_000;
+        let touch = (0..=n)
+            .map(|i| dt * i as f64 / n as f64)
+            .find(|&t| clear(t) <= 0.0)
+            .expect("dips mid-tick");
+        sim.tick();
+        let c = sim.contacts().first().copied();
+        let c = c.unwrap_or_else(|| {
+            panic!("{integrator:?}: the graze inside the first tick was missed")
+        });
+        assert!(
+            (c.t_start - touch).abs() <= dt / n as f64,
+            "{integrator:?}: contact starts at {} s, the exact motion touches at {touch} s",
+            c.t_start
+        );
+    }
 }

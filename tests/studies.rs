@@ -116,8 +116,15 @@ fn assert_outputs(dir: &Path) {
         .collect();
     assert!(files.iter().any(|f| f == "README.md"), "{files:?}");
     assert!(files.iter().any(|f| f.ends_with(".csv")), "{files:?}");
-    assert!(files.iter().any(|f| f.ends_with(".png")), "{files:?}");
+    // Without the `charts` feature the studies draw no PNG, and say so at the top of the report.
+    let charts = cfg!(feature = "charts");
+    assert_eq!(
+        files.iter().any(|f| f.ends_with(".png")),
+        charts,
+        "{files:?}"
+    );
     let md = std::fs::read_to_string(dir.join("README.md")).unwrap();
+    assert_eq!(!md.starts_with("> Charts not drawn"), charts, "{md}");
     assert!(!md.contains("NaN") && !md.contains("inf"), "{md}");
     for f in files.iter().filter(|f| f.ends_with(".csv")) {
         let text = std::fs::read_to_string(dir.join(f)).unwrap();
@@ -157,6 +164,11 @@ fn quick_phase_writes_its_outputs() {
 #[test]
 fn quick_spin_writes_its_outputs() {
     quick("spin");
+}
+
+#[test]
+fn quick_fidelity_writes_its_outputs() {
+    quick("fidelity");
 }
 
 #[test]

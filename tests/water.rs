@@ -3,6 +3,7 @@
 //! quoted beside each test, not from a previous run. Grids are the smallest that still measure to the
 //! stated tolerance, so the suite stays fast in the dev profile.
 
+use glam::DVec3;
 use stoneskip::sim::params::{Limiter, Precision, Swell, WaterParams};
 use stoneskip::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
 
@@ -1061,10 +1062,38 @@ mod properties {
     }
 }
 
-/// Newton's third law through the whole coupling: over a throw's first contact the columns receive
-/// exactly the vertical impulse the water gave the stone, m·Δv_z + m·g·Δt, measured from the stone's
-/// own motion — under every integrator, since each step hands the water the impulse the integrator
-/// applied (spread over the faces loaded at the step's ends). Equal to rounding: 1e-9.
+/// The water's momentum as its own flows hold it (the independent measure of what it received):
+/// horizontally ρ Σ Q·L·e over every pipe (the water in a pipe of length L carries ρQL along it), and
+/// vertically the impulse the surface pressure gave it, read from the y-moment of that momentum,
+/// J_z = (ρ/H) Σ y_p·(Q L e_y) about y = 0. In the linear column model the flow law gives
+/// d/dt Σ y_p Q L e_y = (H/ρ)·ΣE·l² + gH·l²·Ση away from the walls (summation by parts, for both
+/// stencils: A_axis + √2·A_diag = H·l), and Ση = 0 while volume is conserved, so that moment grows by
+/// exactly H/ρ times the vertical impulse received, and the total ρ Σ Q L e by the horizontal one
+/// (the pressure and gravity terms telescope), until waves reach a wall, without damping or limiter.
+fn water_momentum(w: &WaterGrid) -> DVec3 {
+    let (l, rho, h) = (w.cell(), w.config().density, w.rest_depth());
+    let oy = w.origin()[1];
+    let mut p = DVec3::ZERO;
+    let mut moment = 0.0;
+    for iy in 0..w.ny() {
+        let y = oy + (iy + 1) as f64 * l;
+        for ix in 0..w.nx() {
+            let q = |k: usize| w.flow(ix, iy, k) * l;
+            // Q·L·e: +x (L = l), +y, +x+y and −x+y (L = √2 l, e = (±1, 1)/√2).
+            let (qx, qy, qd, qa) = (q(0), q(1), q(2), q(3));
+            p.x += qx + qd - qa;
+            p.y += qy + qd + qa;
+            moment += y * (qy + qd + qa);
+        }
+    }
+    DVec3::new(rho * p.x, rho * p.y, rho / h * moment)
+}
+
+/// Newton's third law through the whole coupling, against the water's own momentum: over a throw's
+/// first contact the stone receives m·Δv + m·g·Δt ẑ (measured from its motion) and the water's flows
+/// gain the opposite, horizontally (the stone's drag pushes the water forward) and vertically —
+/// under every integrator. The water runs in f64 without damping, so the measure is exact up to the
+/// volume's rounding (ρgΔt_w·δV/l per step, δV ~ 1e-15·V: ≲ 1e-7 N·s) and the deposit: 1e-6.
 #[test]
 fn stone_and_water_exchange_equal_impulses() {
     use stoneskip::sim::params::{Integrator, Preset};
@@ -1072,6 +1101,8 @@ fn stone_and_water_exchange_equal_impulses() {
         let mut p = Preset::default();
         p.water.enabled = true;
         p.water.wavy_contact = false;
+        p.water.damping = 0.0;
+        p.water.precision = Precision::F64;
         p.physics.integrator = integrator;
         p.physics.dt = if integrator == Integrator::Adaptive {
             p.physics.dt
@@ -1081,19 +1112,111 @@ fn stone_and_water_exchange_equal_impulses() {
         let mut sim = stoneskip::sim::Simulation::new(&p).unwrap();
         let m = sim.stone().mass;
         let g = p.physics.gravity;
-        let (t0, vz0) = (sim.time(), sim.state().velocity.z);
-        while !sim.contacts().first().is_some_and(|c| !c.open) {
+        let (t0, v0) = (sim.time(), sim.state().velocity);
+        while sim.contacts().first().is_none_or(|c| c.open) {
             sim.tick();
         }
         let c = sim.contacts()[0];
         assert!(c.skip, "{integrator:?}: {c:?}");
-        let stone_side = m * (sim.state().velocity.z - vz0) + m * g * (sim.time() - t0);
-        let water_side = sim.water().unwrap().impulse_received();
-        eprintln!("{integrator:?}: stone {stone_side:.9} N·s, water {water_side:.9} N·s");
-        assert!(stone_side > 0.0);
+        let stone = m * (sim.state().velocity - v0) + DVec3::Z * (m * g * (sim.time() - t0));
+        // Let one more water step take what the last ticks deposited (the stone is in flight).
+        let tw = sim.water().unwrap().time();
+        while sim.water().unwrap().time() <= tw {
+            sim.tick();
+        }
+        let w = sim.water().unwrap();
+        let water = water_momentum(w);
+        eprintln!("{integrator:?}: stone {stone:?} N·s, water {water:?} N·s");
+        assert!(stone.z > 0.0 && stone.x < 0.0, "{stone:?}");
+        // The water is pushed down (J_z > 0 down) and forward (+x): the stone's impulse, reversed.
+        let err = |a: f64, b: f64| (a - b).abs() / stone.length();
         assert!(
-            (water_side / stone_side - 1.0).abs() < 1e-9,
-            "{integrator:?}: stone {stone_side} water {water_side}"
+            err(water.x, -stone.x) < 1e-6,
+            "{integrator:?}: x: stone {stone:?} water {water:?}"
         );
+        assert!(
+            err(water.y, -stone.y) < 1e-6,
+            "{integrator:?}: y: stone {stone:?} water {water:?}"
+        );
+        assert!(
+            err(water.z, stone.z) < 1e-6,
+            "{integrator:?}: z: stone {stone:?} water {water:?}"
+        );
+        // The bookkeeping agrees with both.
+        assert!((w.impulse_received() / stone.z - 1.0).abs() < 1e-9);
+        let [jx, jy] = w.momentum_received();
+        assert!(err(jx, -stone.x) < 1e-9 && err(jy, -stone.y) < 1e-9);
     }
+}
+
+/// A horizontal impulse on still water becomes pipe momentum: ρ Σ Q·L·e of the grid equals the
+/// impulse after the step that takes it and stays so while the disturbance spreads (the flow law
+/// only moves momentum between pipes), for both stencils, on a footprint and at a point.
+#[test]
+fn horizontal_impulse_becomes_pipe_momentum() {
+    for diag in [false, true] {
+        for half in [0.0, 2.3] {
+            let cfg = WaterConfig {
+                diagonal_pipes: diag,
+                ..WaterConfig::unit(64, 64)
+            };
+            let mut w = WaterGrid::with_config(cfg).unwrap();
+            let j = [3.0, -1.5];
+            w.deposit_momentum_box(31.7, 30.2, half, j);
+            w.deposit_impulse_box(31.7, 30.2, half, 2.0);
+            for step in 0..12 {
+                w.step();
+                let p = water_momentum(&w);
+                let scale = 1e-12 * (j[0].abs() + j[1].abs());
+                assert!(
+                    (p.x - j[0]).abs() < scale && (p.y - j[1]).abs() < scale,
+                    "diag {diag}, half {half}, step {step}: {p:?}"
+                );
+            }
+            let [rx, ry] = w.momentum_received();
+            assert!((rx - j[0]).abs() < 1e-14 && (ry - j[1]).abs() < 1e-14);
+        }
+    }
+}
+
+/// Live changes of gravity and density reach the water grid, not only the stone: its wave speed
+/// follows √(gH), its automatic step keeps the Courant number, its flow law the density, and its
+/// clock goes on from where it was.
+#[test]
+fn live_physics_changes_reach_the_water() {
+    use stoneskip::sim::params::Preset;
+    let p = Preset::default();
+    let mut sim = stoneskip::sim::Simulation::new(&p).unwrap();
+    for _ in 0..10 {
+        sim.tick();
+    }
+    let w = sim.water().unwrap();
+    let (c0, t0) = (w.wave_speed(), w.time());
+    let mut physics = p.physics;
+    physics.gravity *= 4.0;
+    physics.water_density = 1025.0;
+    sim.set_physics(physics).unwrap();
+    let w = sim.water().unwrap();
+    assert!(
+        (w.wave_speed() / c0 - 2.0).abs() < 1e-12,
+        "{} vs {c0}",
+        w.wave_speed()
+    );
+    // The faster waves get a shorter step (the old one, at the 1/60 s cap, would now be unstable
+    // with the diagonal pipes' limit of √3/2: r = 0.98).
+    let r = stoneskip::sim::water::COURANT_SAFETY * w.courant_limit();
+    assert!((w.courant() / r - 1.0).abs() < 1e-12, "r = {}", w.courant());
+    assert_eq!(w.config().gravity, physics.gravity);
+    assert_eq!(w.config().density, 1025.0);
+    assert!((w.time() - t0).abs() < 1e-15, "the clock goes on");
+    for _ in 0..10 {
+        sim.tick();
+    }
+    let w = sim.water().unwrap();
+    let expect = 20.0 * p.physics.dt;
+    assert!(
+        (w.time() - expect).abs() <= w.step_dt() + 1e-12,
+        "{} vs {expect}",
+        w.time()
+    );
 }

@@ -4,6 +4,10 @@
 //!
 //! World frame z up. Matrices are right-handed with wgpu's depth range, reversed (near → 1, infinity
 //! → 0) for precision from the stone to the horizon.
+//!
+//! Vertical exaggeration (the side view's 5×, 10×, 20×, as a plot of a flat trajectory would) is a
+//! scale of z before the view transform: the camera lives in the exaggerated "view space"
+//! (`to_view_space`), the matrices take true world points, and `eye_world` is the eye in the world.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -11,6 +15,8 @@ use crate::sim::params::Preset;
 
 /// Vertical field of view of every view (radians).
 pub const FOV_Y: f32 = 50.0 * std::f32::consts::PI / 180.0;
+/// Vertical field of view of the side view (radians): narrow, so it reads like a plot.
+pub const SIDE_FOV_Y: f32 = 20.0 * std::f32::consts::PI / 180.0;
 /// Near clipping distance (m).
 pub const NEAR: f32 = 0.02;
 /// Lowest eye height the controls allow (m): the view stays above the water.
@@ -21,6 +27,85 @@ pub const DEFAULT_BACK: f32 = 2.6;
 /// horizontal: the horizon sits at 0.66 of the half-height above the centre, a sixth of the
 /// height from the top (in the upper third), and the throw runs up the middle of the picture.
 pub const DEFAULT_RISE: f32 = 0.8;
+
+/// The side view's vertical exaggerations offered (1 = true proportions).
+pub const EXAGGERATIONS: [f32; 4] = [1.0, 5.0, 10.0, 20.0];
+
+/// The app's cameras (`stoneskip render --view`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ViewMode {
+    /// Behind and above the launch point, looking along the throw (the default before a throw).
+    Behind,
+    /// From the throw's left, the whole trajectory so far in view, heights exaggerated.
+    Side,
+    /// A chase camera close behind the stone (the default while a throw runs).
+    Follow,
+    /// From above, the whole trajectory in view.
+    Top,
+    /// Wherever the user orbited, panned or zoomed to.
+    Free,
+}
+
+impl ViewMode {
+    /// `behind`, `side`, `follow`, `top` (the command line's names).
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "behind" => Some(Self::Behind),
+            "side" => Some(Self::Side),
+            "follow" | "chase" => Some(Self::Follow),
+            "top" => Some(Self::Top),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Behind => "behind",
+            Self::Side => "side",
+            Self::Follow => "follow",
+            Self::Top => "top",
+            Self::Free => "free",
+        }
+    }
+}
+
+/// What the views are framed on (world, m): plain data taken from the run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Framing {
+    /// The launch point and the throw's heading (radians about +z from +x).
+    pub launch: Vec3,
+    pub heading: f32,
+    /// The stone's centre of mass and velocity now.
+    pub stone: Vec3,
+    pub velocity: Vec3,
+    /// The stone's largest horizontal half-extent.
+    pub radius: f32,
+    /// Box around what was thrown so far (trail, markers, stone, the water level).
+    pub bounds: (Vec3, Vec3),
+}
+
+/// The camera of `mode` for `framing` in a view of `aspect`; `None` for [`ViewMode::Free`].
+pub fn camera_for(mode: ViewMode, f: &Framing, aspect: f32, exaggeration: f32) -> Option<Camera> {
+    let along = Vec3::new(f.heading.cos(), f.heading.sin(), 0.0);
+    match mode {
+        ViewMode::Behind => Some(Camera::orbiting(f.launch, f.heading)),
+        ViewMode::Follow => Some(Camera::chase(f.stone, f.velocity, f.heading, f.radius)),
+        ViewMode::Side => {
+            // At least the launch and a few metres ahead, so the first flight has room.
+            let ahead = f.launch + along * 3.0;
+            let lo = f.bounds.0.min(f.launch.min(ahead).with_z(0.0));
+            let hi = f.bounds.1.max(f.launch.max(ahead));
+            Some(Camera::side_view(lo, hi, f.heading, aspect, exaggeration))
+        }
+        ViewMode::Top => {
+            let ahead = f.launch + along * 3.0;
+            let lo = f.bounds.0.min(f.launch.min(ahead));
+            let hi = f.bounds.1.max(f.launch.max(ahead));
+            Some(Camera::top_view(lo, hi, f.heading, aspect))
+        }
+        ViewMode::Free => None,
+    }
+}
 
 /// An orbit camera looking at `target` from `distance` along the direction (yaw, pitch).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,6 +120,8 @@ pub struct Camera {
     pub distance: f32,
     /// Vertical field of view (radians).
     pub fov_y: f32,
+    /// Heights are drawn this many times taller (1 = true; the side view's 5×, 10×, 20×).
+    pub exaggeration: f32,
 }
 
 impl Default for Camera {
@@ -65,6 +152,7 @@ impl Camera {
             pitch: -(DEFAULT_RISE / DEFAULT_BACK).atan(),
             distance: DEFAULT_BACK.hypot(DEFAULT_RISE),
             fov_y: FOV_Y,
+            exaggeration: 1.0,
         };
         cam.keep_above_water();
         cam
@@ -75,13 +163,37 @@ impl Camera {
         direction(self.yaw, self.pitch)
     }
 
-    /// Eye position (m).
+    /// Eye position in view space (m; heights exaggerated).
     pub fn eye(&self) -> Vec3 {
         self.target - self.forward() * self.distance
     }
 
+    /// Eye position in the world (m).
+    pub fn eye_world(&self) -> Vec3 {
+        self.from_view_space(self.eye())
+    }
+
+    fn k(&self) -> f32 {
+        if self.exaggeration.is_finite() && self.exaggeration > 0.0 {
+            self.exaggeration
+        } else {
+            1.0
+        }
+    }
+
+    /// A world point in the exaggerated space the camera lives in.
+    pub fn to_view_space(&self, world: Vec3) -> Vec3 {
+        world * Vec3::new(1.0, 1.0, self.k())
+    }
+
+    /// Back from [`Camera::to_view_space`].
+    pub fn from_view_space(&self, p: Vec3) -> Vec3 {
+        p / Vec3::new(1.0, 1.0, self.k())
+    }
+
     pub fn view_from_world(&self) -> Mat4 {
         glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Z)
+            * Mat4::from_scale(Vec3::new(1.0, 1.0, self.k()))
     }
 
     /// Reversed-depth infinite perspective for a viewport of `aspect` = width / height.
@@ -153,30 +265,98 @@ impl Camera {
         self.keep_above_water();
     }
 
-    /// Looks at the box [lo, hi] from the throw's left side, level with the water, like the
-    /// paper's Fig. 13 (a side view of the trajectory): the whole box fits the view.
-    pub fn side_view(lo: Vec3, hi: Vec3, heading: f32, aspect: f32) -> Self {
+    /// Looks at the box [lo, hi] from the throw's left side, level with the flight, like the
+    /// paper's Fig. 13 (a side view of the trajectory), heights `exaggeration` × taller: the whole
+    /// box fits the view. A narrow field of view keeps the perspective close to a plot's.
+    pub fn side_view(lo: Vec3, hi: Vec3, heading: f32, aspect: f32, exaggeration: f32) -> Self {
+        let k = if exaggeration.is_finite() && exaggeration > 0.0 {
+            exaggeration
+        } else {
+            1.0
+        };
         let centre = 0.5 * (lo + hi);
         let along = Vec3::new(heading.cos(), heading.sin(), 0.0);
         let extent = ((hi - lo) * Vec3::new(1.0, 1.0, 0.0))
             .dot(along.abs())
             .max(0.5);
-        let height = (hi.z - lo.z.max(0.0)).max(0.2);
-        let fov = FOV_Y;
-        let fit_w = 0.5 * extent / ((0.5 * fov).tan() * aspect.max(0.2));
-        let fit_h = 0.5 * height / (0.5 * fov).tan();
-        let distance = 1.1 * fit_w.max(fit_h) + 0.5;
-        // Level with the middle of the flight, looking a shade down across the throw (+90° from
-        // its heading), so the path runs left to right above its reflection.
+        let z1 = hi.z.max(0.0) * k;
+        let fov = SIDE_FOV_Y;
+        let half = (0.5 * fov).tan();
+        let fit_w = 0.5 * extent / (half * aspect.max(0.2));
+        // Looking across the throw (+90° from its heading) from an eye just above the water, so
+        // the horizon lies on the waterline as a plot's axis would, tilted up at the middle of the
+        // flight: the waterline sits between 55 % and 85 % of the height.
+        let distance = (1.12 * fit_w + 0.5).max(z1 / (1.4 * half)).max(0.5);
+        let tilt = (0.5 * z1 / distance).clamp(0.1 * half, 0.7 * half).atan();
+        let eye_z = 2.0 * MIN_EYE_HEIGHT;
         let mut cam = Self {
-            target: Vec3::new(centre.x, centre.y, 0.5 * (lo.z.max(0.0) + hi.z)),
+            target: Vec3::new(centre.x, centre.y, eye_z + tilt.sin() * distance),
             yaw: wrap_angle(heading + std::f32::consts::FRAC_PI_2),
-            pitch: -2.0_f32.to_radians(),
+            pitch: tilt,
             distance,
             fov_y: fov,
+            exaggeration: k,
         };
         cam.keep_above_water();
         cam
+    }
+
+    /// Looks down on the box [lo, hi] from above, the throw running up the picture.
+    pub fn top_view(lo: Vec3, hi: Vec3, heading: f32, aspect: f32) -> Self {
+        let centre = 0.5 * (lo + hi);
+        let along = Vec3::new(heading.cos(), heading.sin(), 0.0);
+        let size = (hi - lo) * Vec3::new(1.0, 1.0, 0.0);
+        let length = size.dot(along.abs()).max(1.0);
+        let width = size
+            .dot(Vec3::new(along.y.abs(), along.x.abs(), 0.0))
+            .max(1.0);
+        let half = (0.5 * FOV_Y).tan();
+        let distance = 1.15 * (0.5 * length / half).max(0.5 * width / (half * aspect.max(0.2)));
+        let mut cam = Self {
+            target: centre.with_z(0.0),
+            yaw: heading,
+            pitch: -1.45,
+            distance,
+            fov_y: FOV_Y,
+            exaggeration: 1.0,
+        };
+        cam.keep_above_water();
+        cam
+    }
+
+    /// A chase camera close behind the stone: looking along its horizontal velocity (or the
+    /// throw's heading when it barely moves), a little above it.
+    pub fn chase(stone: Vec3, velocity: Vec3, heading: f32, radius: f32) -> Self {
+        let yaw = if velocity.truncate().length() > 0.3 {
+            velocity.y.atan2(velocity.x)
+        } else {
+            heading
+        };
+        let mut cam = Self {
+            target: stone.with_z(stone.z.max(0.0)),
+            yaw,
+            pitch: -14.0_f32.to_radians(),
+            distance: (12.0 * radius).clamp(0.45, 3.0),
+            fov_y: FOV_Y,
+            exaggeration: 1.0,
+        };
+        cam.keep_above_water();
+        cam
+    }
+
+    /// Moves a fraction `k` (0–1) of the way to `to` (smooth camera moves between views).
+    pub fn blend(&mut self, to: &Camera, k: f32) {
+        let k = if k.is_finite() {
+            k.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        self.target = self.target.lerp(to.target, k);
+        self.yaw = wrap_angle(self.yaw + wrap_angle(to.yaw - self.yaw) * k);
+        self.pitch += (to.pitch - self.pitch) * k;
+        self.distance += (to.distance - self.distance) * k;
+        self.fov_y += (to.fov_y - self.fov_y) * k;
+        self.exaggeration = to.exaggeration;
     }
 
     /// Keeps the view direction, moving target and distance so the box [lo, hi] fits the view.

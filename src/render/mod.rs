@@ -1,24 +1,28 @@
 //! Rendering with wgpu: the stone, the water surface (a height field from the simulated grid), the
 //! sky, the trail, contact markers and splash cues; the camera; offscreen capture to PNG.
 //!
-//! The same [`Scene`] (built from a [`Simulation`] by [`Scene::from_simulation`]) is drawn in the
-//! app's window and offscreen, so `stoneskip render` and the picture tests show what the app shows.
-//! This module never steps the physics on its own clock: [`render_image`] ticks the simulation
-//! exactly as the app does, then draws.
+//! The same [`Scene`] (plain data, built from a [`Simulation`] by [`build::scene_of`]) is drawn in
+//! the app's window and offscreen, so `stoneskip render` and the picture tests show what the app
+//! shows, camera by camera ([`ViewMode`]). The renderer ([`SceneRenderer`], one struct per pass in
+//! [`passes`]) sees only the scene. This module never steps the physics on its own clock:
+//! [`render_image`] ticks the simulation exactly as the app does, then draws.
 
+pub mod build;
 pub mod camera;
 pub mod gpu;
 pub mod mesh;
 pub mod offscreen;
+pub mod passes;
 pub mod renderer;
 pub mod scene;
 
 use std::path::Path;
 
-pub use camera::Camera;
+pub use build::{Trail, WaterHeights};
+pub use camera::{Camera, ViewMode};
 pub use offscreen::Offscreen;
 pub use renderer::{RendererConfig, SceneRenderer, Viewport};
-pub use scene::{Scene, SceneStyle, Trail, WaterHeights};
+pub use scene::{Line, Scene, SceneStyle};
 
 use crate::sim::params::Preset;
 use crate::sim::{SimError, Simulation};
@@ -41,6 +45,8 @@ pub enum RenderError {
     Size { width: u32, height: u32 },
     #[error("time {0} s is out of range (expected a finite time ≥ 0)")]
     Time(f64),
+    #[error("vertical exaggeration {0} is not offered (expected 1, 5, 10 or 20)")]
+    Exaggeration(f32),
     #[error(transparent)]
     Sim(#[from] SimError),
     #[error("cannot write the PNG: {0}")]
@@ -86,24 +92,64 @@ impl SimulatedScene {
 
     /// The scene with the app's default camera.
     pub fn scene(&self, style: SceneStyle) -> Scene<'_> {
-        let camera = Camera::default_for(self.sim.preset());
-        Scene::from_simulation(&self.sim, None, &self.trail, &self.heights, camera, style)
+        self.scene_for_view(style, ViewMode::Behind, 1.0, 16.0 / 9.0)
+    }
+
+    /// The scene as the app's `view` camera shows it in a view of `aspect`, with the same guides.
+    pub fn scene_for_view(
+        &self,
+        style: SceneStyle,
+        view: ViewMode,
+        exaggeration: f32,
+        aspect: f32,
+    ) -> Scene<'_> {
+        let framing = build::framing_of(&self.sim, &self.trail, None);
+        let camera = camera::camera_for(view, &framing, aspect, exaggeration)
+            .unwrap_or_else(|| Camera::default_for(self.sim.preset()));
+        let mut scene = build::scene_of(&self.sim, None, &self.trail, &self.heights, camera, style);
+        if view == ViewMode::Side {
+            scene.lines = build::side_guides(&framing, self.sim.contacts(), &camera);
+        }
+        scene
     }
 }
 
-/// Renders the preset's scene at simulated time `time` with the default camera.
+/// Which camera a picture is taken with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PictureView {
+    pub view: ViewMode,
+    /// The side view's vertical exaggeration (1, 5, 10 or 20).
+    pub exaggeration: f32,
+}
+
+impl Default for PictureView {
+    fn default() -> Self {
+        Self {
+            view: ViewMode::Behind,
+            exaggeration: 1.0,
+        }
+    }
+}
+
+/// Renders the preset's scene at simulated time `time` with the app's camera `view`.
 pub fn render_image(
     preset: &Preset,
     width: u32,
     height: u32,
     time: f64,
+    view: PictureView,
 ) -> Result<image::RgbaImage, RenderError> {
     if width == 0 || height == 0 || width > offscreen::MAX_SIDE || height > offscreen::MAX_SIDE {
         return Err(RenderError::Size { width, height });
     }
+    if !camera::EXAGGERATIONS.contains(&view.exaggeration) {
+        return Err(RenderError::Exaggeration(view.exaggeration));
+    }
     let state = SimulatedScene::at_time(preset, time)?;
     let mut off = Offscreen::new()?;
-    off.render(&state.scene(SceneStyle::default()), width, height)
+    let aspect = width as f32 / height as f32;
+    let scene = state.scene_for_view(SceneStyle::default(), view.view, view.exaggeration, aspect);
+    off.render(&scene, width, height)
 }
 
 /// `stoneskip render`: the scene at `time` offscreen, written as an 8-bit RGBA PNG.
@@ -113,8 +159,9 @@ pub fn render_to_png(
     width: u32,
     height: u32,
     time: f64,
+    view: PictureView,
 ) -> anyhow::Result<()> {
-    let img = render_image(preset, width, height, time)?;
+    let img = render_image(preset, width, height, time, view)?;
     img.save_with_format(out, image::ImageFormat::Png)
         .map_err(RenderError::from)?;
     Ok(())

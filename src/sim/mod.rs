@@ -6,11 +6,18 @@
 //! one). The time step is a parameter, never read from a clock, and nothing is random: the same
 //! preset gives bit-identical results. Depends on glam, serde, thiserror and rayon only; knows
 //! nothing of frames, windows or wall-clock time.
+//!
+//! Events are located, not sampled at step ends: the first touch along the exact flight (its
+//! clearance bounded along the torque-free motion and over the waves, so a tumbling stone's or a
+//! crest's graze inside a tick is found), the exit, and the sinking instant inside the step that
+//! sinks. A step reports the forces of its end, and the water receives the stone's whole impulse,
+//! vertical and horizontal (Newton's third law, to rounding).
 
 pub mod contact;
 pub mod hydro;
 pub mod integrate;
 pub mod kernel;
+pub mod metrics;
 pub mod params;
 pub mod reference;
 pub mod scenario;
@@ -25,10 +32,10 @@ use hydro::{
     Surface,
 };
 use integrate::{
-    flight, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv, Dynamics,
-    ErrorScales,
+    first_touch, flight, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv,
+    Dynamics, ErrorScales, FlightBound,
 };
-use params::{Integrator, ParamError, Physics, Preset};
+use params::{Integrator, ParamError, Physics, Preset, Rotation};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
 use water::WaterGrid;
 
@@ -49,6 +56,9 @@ pub enum Outcome {
     Timeout,
     /// Left the water grid (or 1 km with the water off).
     LeftDomain,
+    /// The integration failed: a non-finite state (an explicit scheme unstable at its step) or a
+    /// runaway step loop. [`Summary::diverged_reason`] says which.
+    Diverged,
 }
 
 impl Outcome {
@@ -57,6 +67,7 @@ impl Outcome {
             Outcome::Sank => "sank",
             Outcome::Timeout => "timeout",
             Outcome::LeftDomain => "left_domain",
+            Outcome::Diverged => "diverged",
         }
     }
 }
@@ -96,6 +107,8 @@ pub struct Summary {
     pub schema: u32,
     pub name: String,
     pub outcome: Option<Outcome>,
+    /// Why the run diverged (`outcome` "diverged"); `null` otherwise.
+    pub diverged_reason: Option<String>,
     pub skips: usize,
     pub distance: f64,
     pub final_time: f64,
@@ -105,19 +118,24 @@ pub struct Summary {
     pub water: Option<WaterSummary>,
 }
 
-/// One accepted integration step, for trajectories and plots.
+/// One accepted integration step, for trajectories and plots: everything at the step's end.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepSample {
     pub time: f64,
     pub state: BodyState,
     pub angular_velocity: DVec3,
     pub in_contact: bool,
+    /// Wetted area (m²) and the water's force (N) at `state`, under every integrator.
     pub wetted_area: f64,
     pub force: DVec3,
 }
 
 /// Horizontal distance beyond which a run without water counts as `left_domain` (m).
 pub const OPEN_WATER_LIMIT: f64 = 1000.0;
+
+/// Most steps one tick may take before the run is declared diverged (a runaway step loop; cannot
+/// happen with a positive minimum step, kept so a bug cannot hang the program).
+pub const MAX_STEPS_PER_TICK: u32 = 1_000_000;
 
 /// One face's impulse on the water over an accepted step, spread over a square of the face's wetted
 /// footprint (Newton's third law of the face force, design.md §5): a footprint rather than a point, so
@@ -130,59 +148,67 @@ struct PendingLoad {
     half: f64,
     /// N·s, down.
     impulse: f64,
+    /// N·s on the water along +x and +y (the stone's drag pushes the water forward).
+    horizontal: [f64; 2],
 }
 
-impl PendingLoad {
-    /// Face load `l` acting for `dt` (s).
-    fn new(l: &FaceLoad, dt: f64) -> Self {
-        Self {
-            x: l.x,
-            y: l.y,
-            half: 0.5 * l.footprint.max(0.0).sqrt(),
-            impulse: l.fz * dt,
-        }
-    }
-}
-
-/// The water's vertical impulse on the stone over an accepted step from `a` to `b`, as the
-/// integrator itself applied it: m·Δv_z + m·g·h (gravity is the only other vertical force).
-fn water_impulse(mass: f64, gravity: f64, a: &BodyState, b: &BodyState, h: f64) -> f64 {
-    mass * (b.velocity.z - a.velocity.z) + mass * gravity * h
+/// The water's impulse on the stone over an accepted step from `a` to `b`, as the integrator itself
+/// applied it: m·Δv + m·g·h ẑ (gravity is the only other force). The water receives its opposite.
+fn water_impulse(mass: f64, gravity: f64, a: &BodyState, b: &BodyState, h: f64) -> DVec3 {
+    mass * (b.velocity - a.velocity) + DVec3::Z * (mass * gravity * h)
 }
 
 impl Motion {
-    /// Gives the water an accepted contact step's impulse `j` (N·s, down on the water), exactly what
-    /// the stone received (Newton's third law, to rounding): spread over the faces loaded at the step's
-    /// start and end, half the step each (a trapezoid over the faces), scaled so the parts sum to `j`.
-    /// End-of-step loads alone (a rectangle rule) lose ~5 % of a contact's impulse at the default
-    /// tolerance's few, long steps. The end loads become the next step's start loads.
-    fn push_step_loads(&mut self, j: f64, h: f64, at: DVec3) {
+    /// Gives the water an accepted contact step's impulse: `j` is the water's impulse on the stone
+    /// (N·s), the water receives −j exactly (Newton's third law, to rounding). The vertical part is
+    /// spread over the faces loaded at the step's start and end, half the step each (a trapezoid over
+    /// the faces), scaled so the parts sum to j_z; end-of-step loads alone (a rectangle rule) lose ~5 %
+    /// of a contact's impulse at the default tolerance's few, long steps. The horizontal part goes to
+    /// the same footprints in proportion to their |vertical| shares (the faces carry no separate
+    /// record of their horizontal load; the sum is exact). The end loads become the next step's
+    /// start loads.
+    fn push_step_loads(&mut self, j: DVec3, h: f64, at: DVec3) {
         let end = &self.scratch.loads;
         let sum = |v: &[FaceLoad]| v.iter().map(|l| l.fz).sum::<f64>();
+        let sum_abs = |v: &[FaceLoad]| v.iter().map(|l| l.fz.abs()).sum::<f64>();
         let trapezoid = 0.5 * h * (sum(&self.prev_loads) + sum(end));
-        if trapezoid == 0.0 {
+        let weight = 0.5 * h * (sum_abs(&self.prev_loads) + sum_abs(end));
+        let horizontal = if j.is_finite() {
+            [-j.x, -j.y]
+        } else {
+            [0.0, 0.0]
+        };
+        if trapezoid == 0.0 || weight == 0.0 {
             // No face loaded at either end (wet only at inner stages, or only culled faces): the
             // impulse goes under the centre of mass.
-            if j.is_finite() && j != 0.0 {
+            if j.is_finite() && j != DVec3::ZERO {
                 self.pending.push(PendingLoad {
                     x: at.x,
                     y: at.y,
                     half: 0.0,
-                    impulse: j,
+                    impulse: j.z,
+                    horizontal,
                 });
             }
             self.prev_loads.clear();
             return;
         }
         // The loads' own trapezoid if j is not finite (a diverging explicit scheme).
-        let scale = if j.is_finite() { j / trapezoid } else { 1.0 };
+        let scale = if j.z.is_finite() {
+            j.z / trapezoid
+        } else {
+            1.0
+        };
         let dt = 0.5 * h * scale;
-        self.pending.extend(
-            self.prev_loads
-                .iter()
-                .chain(end)
-                .map(|l| PendingLoad::new(l, dt)),
-        );
+        let share = 0.5 * h / weight;
+        self.pending
+            .extend(self.prev_loads.iter().chain(end).map(|l| PendingLoad {
+                x: l.x,
+                y: l.y,
+                half: 0.5 * l.footprint.max(0.0).sqrt(),
+                impulse: l.fz * dt,
+                horizontal: horizontal.map(|c| c * l.fz.abs() * share),
+            }));
         self.prev_loads.clear();
         self.prev_loads.extend_from_slice(end);
     }
@@ -191,14 +217,26 @@ impl Motion {
 /// The surface the stone touches: z = 0, or the water grid's heights (wavy contact).
 enum SurfaceRef<'a> {
     Flat,
-    Water { grid: &'a WaterGrid, max: f64 },
+    Water {
+        grid: &'a WaterGrid,
+        max: f64,
+        slope: f64,
+    },
 }
 
 impl<'a> SurfaceRef<'a> {
-    fn new(water: &'a Option<WaterGrid>, wavy: bool, max: f64) -> Self {
+    fn new(water: &'a Option<WaterGrid>, wavy: bool, max: f64, slope: f64) -> Self {
         match (water, wavy) {
-            (Some(grid), true) => SurfaceRef::Water { grid, max },
+            (Some(grid), true) => SurfaceRef::Water { grid, max, slope },
             _ => SurfaceRef::Flat,
+        }
+    }
+
+    /// An upper bound of the surface's slope |∇η| (0 when flat).
+    fn max_slope(&self) -> f64 {
+        match self {
+            SurfaceRef::Flat => 0.0,
+            SurfaceRef::Water { slope, .. } => *slope,
         }
     }
 }
@@ -230,11 +268,14 @@ struct Motion {
     in_contact: bool,
     contacts: Vec<ContactEvent>,
     outcome: Option<Outcome>,
+    diverged: Option<String>,
     end_time: f64,
     steps: u64,
     force_evals: u64,
     last_force: ForceSum,
     h_adaptive: f64,
+    /// Derivative and forces at the current state, from the last contact step's end (the next
+    /// step's first stage); `None` in flight or after a change of the physics or of the surface.
     fsal: Option<(Deriv, ForceSum)>,
     scratch: Scratch,
     /// Face impulses pushing the water down, gathered during the tick.
@@ -252,6 +293,8 @@ pub struct Simulation {
     hydro: HydroParams,
     water: Option<WaterGrid>,
     water_max_eta: f64,
+    /// Upper bound of the water surface's slope (wavy contact), for the flight's clearance bound.
+    water_max_slope: f64,
     volume_initial: f64,
     launch_position: DVec3,
     motion: Motion,
@@ -290,6 +333,7 @@ impl Simulation {
             hydro: HydroParams::from_physics(&preset.physics),
             preset: preset.clone(),
             water_max_eta: 0.0,
+            water_max_slope: 0.0,
             volume_initial,
             launch_position: state.position,
             motion: Motion {
@@ -298,6 +342,7 @@ impl Simulation {
                 in_contact: false,
                 contacts: Vec::new(),
                 outcome: None,
+                diverged: None,
                 end_time: 0.0,
                 steps: 0,
                 force_evals: 0,
@@ -349,6 +394,10 @@ impl Simulation {
     pub fn outcome(&self) -> Option<Outcome> {
         self.motion.outcome
     }
+    /// Why the run diverged, when its outcome is [`Outcome::Diverged`].
+    pub fn diverged_reason(&self) -> Option<&str> {
+        self.motion.diverged.as_deref()
+    }
     pub fn is_finished(&self) -> bool {
         self.motion.outcome.is_some()
     }
@@ -361,7 +410,7 @@ impl Simulation {
     pub fn skips(&self) -> usize {
         self.motion.contacts.iter().filter(|c| c.skip).count()
     }
-    /// Forces at the last accepted step.
+    /// Forces at the end of the last accepted step.
     pub fn last_force(&self) -> ForceSum {
         self.motion.last_force
     }
@@ -389,9 +438,13 @@ impl Simulation {
             + self.stone.mass * self.preset.physics.gravity * s.position.z
     }
 
-    /// Changes the physical constants live; takes effect at the next step.
+    /// Changes the physical constants live; takes effect at the next step, for the stone and the
+    /// water grid alike (gravity and density set the grid's flow law and its automatic step).
     pub fn set_physics(&mut self, physics: Physics) -> Result<(), ParamError> {
         physics.validate()?;
+        if let Some(w) = self.water.as_mut() {
+            w.set_constants(physics.gravity, physics.water_density)?;
+        }
         self.preset.physics = physics;
         self.hydro = HydroParams::from_physics(&physics);
         self.motion.fsal = None;
@@ -409,6 +462,7 @@ impl Simulation {
             schema: 1,
             name: self.preset.name.clone(),
             outcome: self.motion.outcome,
+            diverged_reason: self.motion.diverged.clone(),
             skips: self.skips(),
             distance: self.distance(),
             final_time,
@@ -455,6 +509,7 @@ impl Simulation {
         if let Some(w) = self.water.as_mut() {
             for l in &self.motion.pending {
                 w.deposit_impulse_box(l.x, l.y, l.half, l.impulse);
+                w.deposit_momentum_box(l.x, l.y, l.half, l.horizontal);
             }
             let before = w.time();
             w.advance(dt);
@@ -462,25 +517,50 @@ impl Simulation {
             self.motion.pending.clear();
             if stepped {
                 self.refresh_water_max();
+                if self.preset.water.wavy_contact {
+                    // The surface the last forces were evaluated on has moved.
+                    self.motion.fsal = None;
+                }
             }
         } else {
             self.motion.pending.clear();
         }
     }
 
+    /// The highest η and an upper bound of the slope |∇η| of the surface the stone touches. The
+    /// bilinear surface's ∂η/∂x within a cell interpolates the x-differences of its two rows, so it is
+    /// at most the largest |Δη| between neighbouring columns over l (likewise for y).
     fn refresh_water_max(&mut self) {
         if !self.preset.water.wavy_contact {
             self.water_max_eta = 0.0;
+            self.water_max_slope = 0.0;
             return;
         }
         if let Some(w) = &self.water {
-            let mut m = f64::NEG_INFINITY;
+            let (mut m, mut sx, mut sy) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
+            let (mut below, mut row): (Vec<f64>, Vec<f64>) =
+                (Vec::new(), Vec::with_capacity(w.nx()));
             for iy in 0..w.ny() {
-                for ix in 0..w.nx() {
-                    m = m.max(w.eta(ix, iy));
+                row.clear();
+                row.extend((0..w.nx()).map(|ix| w.eta(ix, iy)));
+                for (ix, &e) in row.iter().enumerate() {
+                    m = m.max(e);
+                    if ix > 0 {
+                        sx = sx.max((e - row[ix - 1]).abs());
+                    }
+                    if let Some(b) = below.get(ix) {
+                        sy = sy.max((e - b).abs());
+                    }
                 }
+                std::mem::swap(&mut below, &mut row);
             }
             self.water_max_eta = if m.is_finite() { m } else { 0.0 };
+            let slope = sx.hypot(sy) / w.cell();
+            self.water_max_slope = if slope.is_finite() {
+                slope
+            } else {
+                f64::INFINITY
+            };
         }
     }
 
@@ -489,6 +569,7 @@ impl Simulation {
             &self.water,
             self.preset.water.wavy_contact,
             self.water_max_eta,
+            self.water_max_slope,
         )
     }
 
@@ -531,80 +612,101 @@ impl Simulation {
         self.motion.end_time = t;
     }
 
+    /// Ends the run as diverged at the last finite state, with the reason.
+    fn diverge(&mut self, reason: String) {
+        self.motion.diverged = Some(reason);
+        self.finish(Outcome::Diverged);
+    }
+
     /// Steps the stone until `t_end` or its outcome.
     fn advance_stone(&mut self, t_end: f64, on_step: &mut dyn FnMut(&StepSample)) {
-        let physics = self.preset.physics;
         let mut guard = 0u32;
         while self.motion.time < t_end && self.motion.outcome.is_none() {
             guard += 1;
-            if guard > 1_000_000 {
-                // Cannot happen with a positive minimum step; kept so a bug cannot hang the program.
-                self.finish(Outcome::Timeout);
+            if guard > MAX_STEPS_PER_TICK {
+                self.diverge(format!(
+                    "more than {MAX_STEPS_PER_TICK} steps in one tick at t = {:.6} s (a runaway step loop)",
+                    self.motion.time
+                ));
                 return;
             }
             let prev = self.motion.state;
             let t0 = self.motion.time;
             let h_max = t_end - t0;
-            let (next, h, force) = {
-                let surface = SurfaceRef::new(
-                    &self.water,
-                    self.preset.water.wavy_contact,
-                    self.water_max_eta,
-                );
-                let dy = Dynamics {
-                    stone: &self.stone,
-                    hydro: self.hydro,
-                    gravity: physics.gravity,
-                    rotation: physics.rotation,
-                    surface: &surface,
-                };
-                let m = &mut self.motion;
-                match physics.integrator {
-                    Integrator::Adaptive => adaptive_step(&dy, m, h_max, physics.tolerance),
-                    fixed => {
-                        // Every scheme flies exactly (eqs. 4–8 are exact for a parabola; the
-                        // torque-free rotation has a closed form): they differ in contact only.
-                        let clear = |st: &BodyState| {
-                            lowest_clearance(&self.stone, st.position, st.orientation, &surface)
-                        };
-                        let end =
-                            flight(&self.stone, physics.rotation, physics.gravity, &prev, h_max);
-                        if clear(&prev) > 0.0 && clear(&end) > 0.0 {
-                            m.prev_loads.clear();
-                            (end, h_max, ForceSum::default())
-                        } else {
-                            let (s, f) = match fixed {
-                                Integrator::Paper => step_paper(&dy, &prev, h_max, &mut m.scratch),
-                                Integrator::SymplecticEuler => {
-                                    step_symplectic_euler(&dy, &prev, h_max, &mut m.scratch)
-                                }
-                                _ => step_rk4(&dy, &prev, h_max, &mut m.scratch),
-                            };
-                            m.force_evals += if fixed == Integrator::Rk4 { 4 } else { 1 };
-                            let j =
-                                water_impulse(self.stone.mass, physics.gravity, &prev, &s, h_max);
-                            m.push_step_loads(j, h_max, s.position);
-                            (s, h_max, f)
-                        }
-                    }
-                }
-            };
-            if !next.is_finite() {
+            let step = self.take_step(h_max);
+            if !step.state.is_finite() {
                 // A diverging explicit scheme (e.g. Paper at a huge step): stop at the last finite
                 // state rather than report NaN.
-                self.finish(Outcome::Sank);
+                self.diverge(format!(
+                    "the {:?} integrator's state became non-finite in a step of {:.3e} s from t = {t0:.6} s \
+                     (unstable at this step; a smaller dt or the Adaptive integrator avoids it)",
+                    self.preset.physics.integrator, step.h
+                ));
                 return;
             }
-            self.motion.state = next;
-            self.motion.time = if h >= h_max { t_end } else { t0 + h };
+            if step.contact {
+                let j = water_impulse(
+                    self.stone.mass,
+                    self.preset.physics.gravity,
+                    &prev,
+                    &step.state,
+                    step.h,
+                );
+                self.motion.push_step_loads(j, step.h, step.state.position);
+            }
+            self.motion.state = step.state;
+            self.motion.time = if step.h >= h_max { t_end } else { t0 + step.h };
             self.motion.steps += 1;
-            self.motion.last_force = force;
-            self.after_step(&prev, h, on_step);
+            self.motion.last_force = step.force;
+            self.after_step(&prev, step.h, step.sunk, on_step);
         }
     }
 
-    /// Contact episodes and outcomes after an accepted step from `prev` over `h`.
-    fn after_step(&mut self, prev: &BodyState, h: f64, on_step: &mut dyn FnMut(&StepSample)) {
+    /// One step of at most `h_max` with the preset's integrator: exact flight, or a contact step
+    /// whose forces and face loads (in the scratch) are those of its end.
+    fn take_step(&mut self, h_max: f64) -> Step {
+        let physics = self.preset.physics;
+        let surface = SurfaceRef::new(
+            &self.water,
+            self.preset.water.wavy_contact,
+            self.water_max_eta,
+            self.water_max_slope,
+        );
+        let cx = StepContext {
+            dy: Dynamics {
+                stone: &self.stone,
+                hydro: self.hydro,
+                gravity: physics.gravity,
+                rotation: physics.rotation,
+                surface: &surface,
+            },
+            integrator: physics.integrator,
+            tolerance: physics.tolerance,
+            slope: surface.max_slope(),
+        };
+        let m = &mut self.motion;
+        let prev = m.state;
+        let step = match physics.integrator {
+            Integrator::Adaptive => adaptive_step(&cx, m, h_max),
+            _ => fixed_step(&cx, m, h_max),
+        };
+        match step.k1 {
+            Some(k1) if step.contact && step.state.is_finite() => {
+                locate_sink(&cx, m, &prev, &k1, step)
+            }
+            _ => step,
+        }
+    }
+
+    /// Contact episodes and outcomes after an accepted step from `prev` over `h`; `sunk`: the step
+    /// ended with the underside submerged.
+    fn after_step(
+        &mut self,
+        prev: &BodyState,
+        h: f64,
+        sunk: bool,
+        on_step: &mut dyn FnMut(&StepSample),
+    ) {
         let physics = self.preset.physics;
         let s = self.motion.state;
         let t = self.motion.time;
@@ -640,7 +742,7 @@ impl Simulation {
             wetted_area: f.wetted_area,
             force: f.force,
         });
-        if now && underside_submerged(&self.stone, s.position, s.orientation, &self.surface()) {
+        if now && sunk {
             self.finish(Outcome::Sank);
             return;
         }
@@ -672,14 +774,14 @@ impl Simulation {
         if !wet(h) {
             return h;
         }
-        first_wet(h, 60, wet)
+        first_wet(0.0, h, 60, wet)
     }
 }
 
-/// Bisection on [0, h] for the first offset that is wet, given dry at 0 and wet at `h`: at most
-/// `iterations` halvings, stopping early when the interval reaches floating-point resolution.
-fn first_wet(h: f64, iterations: u32, wet: impl Fn(f64) -> bool) -> f64 {
-    let (mut lo, mut hi) = (0.0, h);
+/// Bisection on [lo, hi] for the first offset that is wet, given dry at `lo` and wet at `hi`: at
+/// most `iterations` halvings, stopping early when the interval reaches floating-point resolution.
+fn first_wet(lo: f64, hi: f64, iterations: u32, wet: impl Fn(f64) -> bool) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
     for _ in 0..iterations {
         let mid = 0.5 * (lo + hi);
         if mid <= lo || mid >= hi {
@@ -694,65 +796,287 @@ fn first_wet(h: f64, iterations: u32, wet: impl Fn(f64) -> bool) -> f64 {
     hi
 }
 
-/// One Adaptive step: exact flight to `h_max` or to the first touch; error-controlled
-/// Dormand–Prince steps in contact. Returns the new state, the step taken and the forces there.
-fn adaptive_step(
-    dy: &Dynamics,
-    m: &mut Motion,
-    h_max: f64,
-    tol: f64,
-) -> (BodyState, f64, ForceSum) {
-    let s = m.state;
-    let clear =
-        |st: &BodyState| lowest_clearance(dy.stone, st.position, st.orientation, dy.surface);
-    if !m.in_contact && clear(&s) > 0.0 {
-        m.fsal = None;
-        m.prev_loads.clear();
-        let end = flight(dy.stone, dy.rotation, dy.gravity, &s, h_max);
-        if clear(&end) > 0.0 {
-            return (end, h_max, ForceSum::default());
+/// One accepted step of the stone.
+struct Step {
+    state: BodyState,
+    h: f64,
+    /// Forces at the step's end.
+    force: ForceSum,
+    /// Integrated with the water's forces (its loads go to the water); false for exact flight.
+    contact: bool,
+    /// The derivative at the step's start (contact steps).
+    k1: Option<Deriv>,
+    /// Ended with the underside submerged.
+    sunk: bool,
+}
+
+impl Step {
+    fn flight(state: BodyState, h: f64) -> Self {
+        Self {
+            state,
+            h,
+            force: ForceSum::default(),
+            contact: false,
+            k1: None,
+            sunk: false,
         }
-        // Locate the first touch by bisection on the exact flight.
-        let hi = first_wet(h_max, 80, |t| {
-            clear(&flight(dy.stone, dy.rotation, dy.gravity, &s, t)) <= 0.0
-        });
-        let at = flight(dy.stone, dy.rotation, dy.gravity, &s, hi);
-        return (at, hi, ForceSum::default());
     }
-    let (k1, _f1) = match m.fsal {
-        Some(k) => k,
-        None => {
-            m.force_evals += 1;
-            dy.derivative(&s, &mut m.scratch, false)
-        }
-    };
+}
+
+/// Everything a step needs besides the motion.
+struct StepContext<'a> {
+    dy: Dynamics<'a>,
+    integrator: Integrator,
+    tolerance: f64,
+    /// Upper bound of the surface's slope (0 when flat).
+    slope: f64,
+}
+
+impl StepContext<'_> {
+    fn clear(&self, st: &BodyState) -> f64 {
+        lowest_clearance(self.dy.stone, st.position, st.orientation, self.dy.surface)
+    }
+
+    fn submerged(&self, st: &BodyState) -> bool {
+        underside_submerged(self.dy.stone, st.position, st.orientation, self.dy.surface)
+    }
+
+    fn flight(&self, s: &BodyState, t: f64) -> BodyState {
+        flight(self.dy.stone, self.dy.rotation, self.dy.gravity, s, t)
+    }
+
+    /// The first touch along the exact flight from `s` over [0, h] (see [`first_touch`]): `None`
+    /// when proven clear, else the bracket of the first touch.
+    fn touch(&self, s: &BodyState, h: f64) -> Option<(f64, f64)> {
+        let stone = self.dy.stone;
+        let omega = match self.dy.rotation {
+            Rotation::Locked => 0.0,
+            Rotation::Free => s.angular_momentum.length() / stone.principal_moments().min_element(),
+        };
+        let speed_h = s.velocity.x.hypot(s.velocity.y);
+        let max_eta = self.dy.surface.max_height();
+        let bound = FlightBound::new(stone.bounding_radius, speed_h, omega, self.slope, max_eta);
+        first_touch(
+            &|st: &BodyState, t: f64| self.flight(st, t),
+            &|st: &BodyState| self.clear(st),
+            &bound,
+            s,
+            h,
+        )
+    }
+
+    /// The contact step of this context's integrator from `s` (derivative `k1`) over `h`, with
+    /// the forces evaluated (and the face loads recorded) at its end: (state, end derivative, end
+    /// forces, force evaluations). Adaptive: one Dormand–Prince step, without error control.
+    fn contact_step(
+        &self,
+        s: &BodyState,
+        k1: &Deriv,
+        h: f64,
+        scratch: &mut Scratch,
+    ) -> (BodyState, Deriv, ForceSum, u64) {
+        let dy = &self.dy;
+        let (state, evals) = match self.integrator {
+            Integrator::Adaptive => {
+                let scales = error_scales(dy, s);
+                let a = step_dp5(dy, s, k1, h, self.tolerance, &scales, scratch);
+                return (a.state, a.k_end, a.force_end, a.evals);
+            }
+            Integrator::Paper => (step_paper(dy, s, k1, h), 0),
+            Integrator::SymplecticEuler => (step_symplectic_euler(dy, s, k1, h), 0),
+            Integrator::Rk4 => (step_rk4(dy, s, k1, h, scratch), 3),
+        };
+        let (k_end, f_end) = dy.derivative(&state, scratch, true);
+        (state, k_end, f_end, evals + 1)
+    }
+}
+
+/// Scales of the Dormand–Prince error norm at state `s`.
+fn error_scales(dy: &Dynamics, s: &BodyState) -> ErrorScales {
     let r = dy.stone.bounding_radius;
     let g = dy.gravity.max(1e-3);
-    let scales = ErrorScales {
+    ErrorScales {
         position: r,
         velocity: s.velocity.length().max((g * r).sqrt()),
         angular_momentum: s
             .angular_momentum
             .length()
             .max(dy.stone.principal_moments().max_element() * (g / r).sqrt()),
+    }
+}
+
+/// The derivative at the motion's state: the last step's end (FSAL) or a fresh evaluation.
+fn start_derivative(dy: &Dynamics, m: &mut Motion) -> Deriv {
+    match m.fsal {
+        Some((k, _)) => k,
+        None => {
+            m.force_evals += 1;
+            dy.derivative(&m.state, &mut m.scratch, false).0
+        }
+    }
+}
+
+/// One step of a fixed-step scheme over the rest of the tick `h_max`. Every scheme flies exactly
+/// (eqs. 4–8 are exact for a parabola; the torque-free rotation has a closed form): they differ in
+/// contact only. A flight that touches the water inside the tick but is clear again at its end (a
+/// graze of a spinning stone, or over a wave) flies exactly to the touch; the scheme then steps from
+/// there over the tick's rest.
+fn fixed_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
+    let prev = m.state;
+    let in_flight = |m: &mut Motion| {
+        m.fsal = None;
+        m.prev_loads.clear();
     };
+    match cx.touch(&prev, h_max) {
+        None => {
+            in_flight(m);
+            return Step::flight(cx.flight(&prev, h_max), h_max);
+        }
+        Some((lo, hi)) if hi > 0.0 && cx.clear(&cx.flight(&prev, h_max)) > 0.0 => {
+            in_flight(m);
+            let t = first_wet(lo, hi, 60, |t| cx.clear(&cx.flight(&prev, t)) <= 0.0);
+            return Step::flight(cx.flight(&prev, t), t);
+        }
+        Some(_) => {}
+    }
+    let k1 = start_derivative(&cx.dy, m);
+    let (state, k_end, force, evals) = cx.contact_step(&prev, &k1, h_max, &mut m.scratch);
+    m.force_evals += evals;
+    m.fsal = Some((k_end, force));
+    Step {
+        state,
+        h: h_max,
+        force,
+        contact: true,
+        k1: Some(k1),
+        sunk: false,
+    }
+}
+
+/// How far the highest vertex of the faces whose outward normal points down is above the surface
+/// (m): the underside is submerged (design.md §4 "sank", [`underside_submerged`]) exactly when this
+/// is negative; +∞ without a downward face. Continuous in the state, so the sinking instant can be
+/// found by a secant method.
+fn underside_height(stone: &Stone, st: &BodyState, surface: &dyn Surface) -> f64 {
+    let rot = DMat3::from_quat(st.orientation);
+    let mut highest = f64::NEG_INFINITY;
+    let mut any_down = false;
+    for (t, tri) in stone.mesh.triangles.iter().enumerate() {
+        if (rot * stone.normals[t]).z >= 0.0 {
+            continue;
+        }
+        any_down = true;
+        for &i in tri {
+            let w = st.position + rot * stone.mesh.positions[i as usize];
+            highest = highest.max(w.z - surface.height(w.x, w.y));
+        }
+    }
+    if any_down {
+        highest
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The sinking instant inside a contact step, located as entry and exit are: if the step from
+/// `prev` ends with the underside submerged and did not start so, the step is cut to where the
+/// underside's highest point reaches the surface, by the Illinois (regula falsi) method on the
+/// integrator's own step from `prev`, to 1e-9 of the stone's size in height or of the step in time.
+/// So the sinking time and place converge with the integrator rather than stopping at the step's
+/// end.
+fn locate_sink(cx: &StepContext, m: &mut Motion, prev: &BodyState, k1: &Deriv, step: Step) -> Step {
+    if !cx.submerged(&step.state) {
+        return step;
+    }
+    if cx.submerged(prev) {
+        return Step { sunk: true, ..step };
+    }
+    let height = |st: &BodyState| underside_height(cx.dy.stone, st, cx.dy.surface);
+    let eps = 1e-9 * cx.dy.stone.bounding_radius;
+    let (mut lo, mut f_lo) = (0.0, height(prev).max(0.0));
+    let (mut hi, mut f_hi) = (step.h, height(&step.state).min(0.0));
+    let mut side = 0i8;
+    // The step to `hi` when the last trial set it (its end loads are the scratch's).
+    let mut at_hi = None;
+    for _ in 0..60 {
+        if hi - lo <= 1e-9 * step.h || -f_hi <= eps {
+            break;
+        }
+        let mut x = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+        if !(x > lo && x < hi) {
+            x = 0.5 * (lo + hi);
+        }
+        let (s, k_end, force, evals) = cx.contact_step(prev, k1, x, &mut m.scratch);
+        m.force_evals += evals;
+        let fx = height(&s);
+        at_hi = None;
+        if fx < 0.0 && cx.submerged(&s) {
+            (hi, f_hi) = (x, fx);
+            at_hi = Some((s, k_end, force));
+            if side == 1 {
+                f_lo *= 0.5;
+            }
+            side = 1;
+        } else {
+            (lo, f_lo) = (x, fx.max(0.0));
+            if side == -1 {
+                f_hi *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    let (state, k_end, force) = at_hi.unwrap_or_else(|| {
+        let (s, k, f, evals) = cx.contact_step(prev, k1, hi, &mut m.scratch);
+        m.force_evals += evals;
+        (s, k, f)
+    });
+    m.fsal = Some((k_end, force));
+    Step {
+        state,
+        h: hi,
+        force,
+        contact: true,
+        k1: Some(*k1),
+        sunk: cx.submerged(&state),
+    }
+}
+
+/// One Adaptive step: exact flight to `h_max` or to the first touch; error-controlled
+/// Dormand–Prince steps in contact.
+fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
+    let dy = &cx.dy;
+    let s = m.state;
+    if !m.in_contact && cx.clear(&s) > 0.0 {
+        m.fsal = None;
+        m.prev_loads.clear();
+        return match cx.touch(&s, h_max) {
+            None => Step::flight(cx.flight(&s, h_max), h_max),
+            Some((lo, hi)) => {
+                // Locate the first touch by bisection on the exact flight.
+                let t = first_wet(lo, hi, 80, |t| cx.clear(&cx.flight(&s, t)) <= 0.0);
+                Step::flight(cx.flight(&s, t), t)
+            }
+        };
+    }
+    let k1 = start_derivative(dy, m);
+    let scales = error_scales(dy, &s);
     if m.h_adaptive <= 0.0 {
         // First contact: a fraction of the contact's time scale r / |v|.
-        m.h_adaptive = 0.01 * r / s.velocity.length().max(0.1);
+        m.h_adaptive = 0.01 * dy.stone.bounding_radius / s.velocity.length().max(0.1);
     }
     let h_min = 1e-10;
     let mut h = m.h_adaptive.min(h_max);
-    let c0 = clear(&s).min(0.0);
+    let c0 = cx.clear(&s).min(0.0);
     let mut exit_refinements = 0;
     loop {
-        let attempt = step_dp5(dy, &s, &k1, h, tol, &scales, &mut m.scratch);
+        let attempt = step_dp5(dy, &s, &k1, h, cx.tolerance, &scales, &mut m.scratch);
         m.force_evals += attempt.evals;
         let err = attempt.error;
         if err <= 1.0 || h <= h_min {
             // Leaving the water inside the step: the force has a kink there, which the error
             // estimate does not see. Shorten the step to end at the exit (secant on the lowest
             // vertex's clearance), so no step integrates across it.
-            let c1 = clear(&attempt.state);
+            let c1 = cx.clear(&attempt.state);
             if c1 > 0.0 && exit_refinements < 3 && h > 64.0 * h_min {
                 let f = -c0 / (c1 - c0);
                 if f < 0.99 {
@@ -772,10 +1096,15 @@ fn adaptive_step(
             if !clipped || grow < 1.0 {
                 m.h_adaptive = (h * grow).max(h_min);
             }
-            let j = water_impulse(dy.stone.mass, dy.gravity, &s, &attempt.state, h);
-            m.push_step_loads(j, h, attempt.state.position);
             m.fsal = Some((attempt.k_end, attempt.force_end));
-            return (attempt.state, h, attempt.force_end);
+            return Step {
+                state: attempt.state,
+                h,
+                force: attempt.force_end,
+                contact: true,
+                k1: Some(k1),
+                sunk: false,
+            };
         }
         let shrink = if err.is_finite() {
             (0.9 * err.powf(-0.2)).clamp(0.1, 0.9)
@@ -790,4 +1119,42 @@ fn adaptive_step(
 pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
     let mut sim = Simulation::new(preset)?;
     Ok(sim.run(&mut |_| {}, &|| false))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A step whose forces overflow (the velocity of an explicit scheme run far past its stability
+    /// limit) ends the run as diverged, at the last finite state, with the reason; it used to be
+    /// reported as a sinking.
+    #[test]
+    fn a_non_finite_step_is_reported_as_diverged() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        p.physics.integrator = Integrator::Paper;
+        let mut sim = Simulation::new(&p).unwrap();
+        // In the water, with a speed whose square overflows.
+        sim.motion.state.position.z = 0.0;
+        sim.motion.state.velocity = DVec3::new(1e200, 0.0, -1e200);
+        let before = sim.motion.state;
+        sim.tick();
+        assert_eq!(sim.outcome(), Some(Outcome::Diverged));
+        assert_eq!(sim.state(), &before, "stops at the last finite state");
+        let reason = sim.diverged_reason().unwrap();
+        assert!(reason.contains("non-finite"), "{reason}");
+        let s = sim.summary();
+        assert_eq!(s.outcome.map(Outcome::as_str), Some("diverged"));
+        assert_eq!(s.diverged_reason.as_deref(), Some(reason));
+    }
+
+    /// A run that ends otherwise carries no reason.
+    #[test]
+    fn other_outcomes_carry_no_reason() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        let s = simulate(&p).unwrap();
+        assert_eq!(s.outcome, Some(Outcome::Sank));
+        assert_eq!(s.diverged_reason, None);
+    }
 }

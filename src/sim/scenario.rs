@@ -98,7 +98,8 @@ pub fn min_speed(
 
 /// Sizes the water grid to the throw (model no more than the scene needs): the stone is run once
 /// without water (cheap), and the grid is made to cover its whole track plus `margin` metres on
-/// every side, in whole cells. The lake's other settings are kept.
+/// every side, in whole cells. The lake's other settings are kept. With wavy contact the stone
+/// rides on the water it moves and its track differs from the flat-water one it was sized on.
 pub fn fit_water_to_throw(preset: &Preset, margin: f64) -> Result<Preset, SimError> {
     let mut dry = preset.clone();
     dry.water.enabled = false;

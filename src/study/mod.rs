@@ -11,10 +11,12 @@
 
 pub mod accuracy;
 pub mod defaults;
+pub mod fidelity;
 pub mod phase;
 pub mod plot;
 pub mod spin;
 pub mod stability;
+pub mod style;
 pub mod table;
 pub mod throws;
 
@@ -28,12 +30,14 @@ use crate::sim::reference::ReferenceError;
 use crate::sim::SimError;
 
 /// The studies `run_study` knows, in the order `all` runs them.
-pub const STUDIES: [&str; 4] = ["accuracy", "stability", "phase", "defaults"];
+pub const STUDIES: [&str; 5] = ["accuracy", "stability", "phase", "defaults", "fidelity"];
 
 /// Errors of the studies.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
-    #[error("unknown study `{0}`; valid names: accuracy, stability, phase, defaults, spin, all")]
+    #[error(
+        "unknown study `{0}`; valid names: accuracy, stability, phase, defaults, fidelity, spin, all"
+    )]
     Unknown(String),
     #[error(transparent)]
     Sim(#[from] SimError),
@@ -172,6 +176,7 @@ fn run_one(name: &str, out: &Path, quick: bool) -> Result<f64, StudyError> {
         "stability" => stability::run(&Ctx::new("stability", out, quick)?)?,
         "phase" => phase::run(&Ctx::new("phase", out, quick)?)?,
         "defaults" => defaults::run(&Ctx::new("defaults", out, quick)?)?,
+        "fidelity" => fidelity::run(&Ctx::new("fidelity", out, quick)?)?,
         // The phase study's spin axis alone (`phase` runs it too).
         "spin" => {
             let ctx = Ctx::new("spin", out, quick)?;
@@ -183,7 +188,29 @@ fn run_one(name: &str, out: &Path, quick: bool) -> Result<f64, StudyError> {
         }
         other => return Err(StudyError::Unknown(other.to_owned())),
     }
+    if !plot::CHARTS {
+        note_no_charts(out)?;
+    }
     Ok(started.elapsed().as_secs_f64())
+}
+
+/// Says at the top of a study's report that its charts were not drawn (a build without the
+/// `charts` feature), so the images it links to are missing.
+fn note_no_charts(out: &Path) -> Result<(), StudyError> {
+    let path = out.join("README.md");
+    let text = std::fs::read_to_string(&path).map_err(|source| StudyError::Io {
+        path: path.clone(),
+        source,
+    })?;
+    let note = "> Charts not drawn: this stoneskip was built without the `charts` feature, so the \
+                PNG images this report links to are missing; the CSV files hold the data.\n\n";
+    let ctx = Ctx {
+        out: out.to_path_buf(),
+        quick: false,
+        name: "report",
+        started: Instant::now(),
+    };
+    ctx.write("README.md", &format!("{note}{text}"))
 }
 
 /// The relative difference |a − b| / |b| (|b| floored at 1e-300, so never NaN for finite input).
@@ -224,7 +251,8 @@ mod tests {
         let dir = std::env::temp_dir().join("stoneskip-unknown-study");
         let e = run_study("nope", &dir, true).unwrap_err().to_string();
         assert!(
-            e.contains("nope") && e.contains("accuracy, stability, phase, defaults, spin, all"),
+            e.contains("nope")
+                && e.contains("accuracy, stability, phase, defaults, fidelity, spin, all"),
             "{e}"
         );
     }

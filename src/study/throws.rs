@@ -10,6 +10,9 @@ use crate::sim::scenario::{at_impact, IMPACT_CLEARANCE};
 
 use super::StudyError;
 
+/// Most force evaluations one phase-map run may take; a run stopped there counts its skips so far.
+pub const EVAL_CAP: u64 = 300_000;
+
 /// A throw at impact.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Throw {

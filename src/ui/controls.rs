@@ -56,79 +56,122 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
     }
     ui.separator();
     ui.label("Speed")
-        .on_hover_text("Slow motion: simulated seconds per real second");
+        .on_hover_text("Playback: simulated seconds per real second (below 1: slow motion)");
     ui.add(
-        Slider::new(&mut c.speed, 0.01..=1.0)
+        Slider::new(&mut c.speed, 0.01..=4.0)
             .clamping(SliderClamping::Always)
             .logarithmic(true)
+            .custom_parser(super::parse_finite)
             .custom_formatter(|v, _| format!("{v:.2}×")),
     );
+    for fast in [2.0, 4.0] {
+        if ui
+            .selectable_label((c.speed - fast).abs() < 1e-9, format!("{fast:.0}×"))
+            .on_hover_text("Faster than real time (results are unchanged: the same ticks run)")
+            .clicked()
+        {
+            c.speed = fast;
+        }
+    }
     ui.separator();
-    let state = match (c.phase, c.outcome) {
+    let state = match (c.phase, &c.outcome) {
         (Phase::Ready, _) => "ready".to_owned(),
         (_, Some(o)) if c.phase == Phase::Paused => format!("{o}, paused"),
-        (_, Some(o)) => o.to_owned(),
+        (_, Some(o)) if c.resting => format!("{o} (at rest)"),
+        (_, Some(o)) => o.clone(),
         (Phase::Running, None) => "running".to_owned(),
         (Phase::Paused, None) => "paused".to_owned(),
     };
     ui.monospace(format!("t = {:7.3} s  {state}", c.time));
-    if c.dropping_now {
+    if let (Some(n), true) = (c.replaying, c.phase != Phase::Ready) {
         ui.label(
-            RichText::new(format!("running behind: {:.2} s of simulated time skipped", c.dropped_total))
-                .color(egui::Color32::from_rgb(255, 190, 80)),
-        )
-        .on_hover_text(
-            "A slow frame may run only so many ticks; the rest of the time is dropped (shown in slower \
-             motion), never squeezed into bigger steps: results are unchanged",
-        );
-    }
-    if c.pending_changes {
-        ui.label(
-            RichText::new("changes apply on the next throw / reset")
-                .color(egui::Color32::from_rgb(150, 200, 255)),
-        );
-    }
-    if let Some(why) = &c.invalid {
-        ui.label(
-            RichText::new(format!("invalid: {why}")).color(egui::Color32::from_rgb(255, 110, 100)),
+            RichText::new(format!(
+                "replay ({n} live physics change{})",
+                if n == 1 { "" } else { "s" }
+            ))
+            .color(egui::Color32::from_rgb(150, 200, 255)),
         );
     }
 }
 
-/// Camera: default view, side view, frame all, follow; which panels show.
-pub fn view_ui(ui: &mut Ui, view: &mut ViewSettings, actions: &mut Vec<Action>) {
-    ui.label("View");
-    if ui
-        .button("Behind")
-        .on_hover_text("1: behind and above the launch point, looking along the throw")
-        .clicked()
-    {
-        actions.push(Action::View(ViewRequest::Default));
+/// The run's passing notices (running behind, changes waiting, why the settings are refused),
+/// as (text, is an error) lines: the app draws them over the 3D view, so they never move the
+/// layout.
+pub fn notices(c: &SimControls) -> Vec<(String, bool)> {
+    let mut out = Vec::new();
+    if c.dropping_now {
+        out.push((
+            format!(
+                "running behind: {:.2} s of simulated time skipped (results are unchanged)",
+                c.dropped_total
+            ),
+            false,
+        ));
     }
-    if ui
-        .button("Side")
-        .on_hover_text("2: from the side, the whole trajectory (the paper's Fig. 13)")
-        .clicked()
-    {
-        actions.push(Action::View(ViewRequest::Side));
+    if c.pending_changes {
+        out.push(("changes apply on the next throw / reset".to_owned(), false));
+    }
+    if let Some(why) = &c.invalid {
+        out.push((format!("invalid: {why}"), true));
+    }
+    out
+}
+
+/// Camera: behind, side (with its exaggeration), follow, top, frame all; which panels show;
+/// screenshots. `current` is the camera now (`None`: where the user moved it).
+pub fn view_ui(
+    ui: &mut Ui,
+    view: &mut ViewSettings,
+    current: Option<ViewRequest>,
+    exaggeration: f32,
+    actions: &mut Vec<Action>,
+) {
+    ui.label("View");
+    for (req, name, tip) in [
+        (ViewRequest::Default, "Behind", "1: behind and above the launch point, looking along the throw"),
+        (ViewRequest::Follow, "Follow", "2 or F: a chase camera close behind the stone (the default while a throw runs)"),
+        (ViewRequest::Side, "Side", "3: from the side, the whole trajectory with the waterline and skip ticks (the paper's Fig. 13), heights exaggerated"),
+        (ViewRequest::Top, "Top", "4: from above"),
+    ] {
+        if ui
+            .selectable_label(current == Some(req), name)
+            .on_hover_text(tip)
+            .clicked()
+        {
+            actions.push(Action::View(req));
+        }
+    }
+    if current == Some(ViewRequest::Side) {
+        let mut k = exaggeration;
+        egui::ComboBox::from_id_salt("exaggeration")
+            .width(56.0)
+            .selected_text(format!("{k:.0}× z"))
+            .show_ui(ui, |ui| {
+                for e in [1.0, 5.0, 10.0, 20.0] {
+                    ui.selectable_value(&mut k, e, format!("{e:.0}×"));
+                }
+            })
+            .response
+            .on_hover_text("Vertical exaggeration of the side view (E cycles)");
+        if k != exaggeration {
+            actions.push(Action::Exaggerate(k));
+        }
     }
     if ui
         .button("Frame all")
-        .on_hover_text("3: fit the trajectory in view")
+        .on_hover_text("5 or double-click: fit the trajectory in view")
         .clicked()
     {
         actions.push(Action::View(ViewRequest::FrameAll));
     }
-    ui.toggle_value(&mut view.follow, "Follow")
-        .on_hover_text("F: the camera follows the stone");
     ui.separator();
     ui.toggle_value(&mut view.show_settings, "Settings");
     ui.toggle_value(&mut view.show_readouts, "Readouts");
     if ui
         .button("Screenshot")
-        .on_hover_text("Save a screenshot (PNG)")
+        .on_hover_text("Save the 3D view as a PNG (without the panels; the Export panel saves the whole window)")
         .clicked()
     {
-        actions.push(Action::Screenshot);
+        actions.push(Action::Screenshot { panels: false });
     }
 }

@@ -8,16 +8,21 @@
 //! in rev/s, converted to radians and rad/s here.
 
 mod controls;
+mod help;
 mod presets;
 mod readouts;
 mod settings;
 
 use std::path::PathBuf;
 
-pub use controls::{simulation_ui, view_ui};
+pub use controls::{notices, simulation_ui, view_ui};
+pub use help::{about_ui, help_ui, SHORTCUTS};
 pub use presets::{file_stem_for, presets_ui, PresetLibrary};
-pub use readouts::{contacts_ui, export_ui, plots_ui, readouts_ui, timing_ui, PlotSeries};
-pub use settings::{display_ui, launch_ui, physics_ui, stone_ui, water_ui};
+pub use readouts::{
+    contact_kind, contacts_ui, export_ui, ghosts_ui, plots_ui, readouts_ui, slide_distance,
+    timing_ui, ContactKind, GhostRow, PlotSeries,
+};
+pub use settings::{display_ui, launch_ui, parse_finite, physics_ui, stone_ui, water_ui};
 
 /// What the user asked for this frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,8 +40,15 @@ pub enum Action {
     SavePresetAs(String),
     RefreshPresets,
     ExportCsv,
-    Screenshot,
+    /// Save a PNG of the window (`panels`) or of the 3D view alone.
+    Screenshot {
+        panels: bool,
+    },
     View(ViewRequest),
+    /// The side view's vertical exaggeration (1, 5, 10, 20).
+    Exaggerate(f32),
+    /// Close the status message.
+    DismissMessage,
     /// The launch, stone or water changed: needs a new simulation.
     SceneEdited,
     /// The physical constants changed: applied live.
@@ -48,9 +60,13 @@ pub enum Action {
 pub enum ViewRequest {
     /// Behind and above the launch point, looking along the throw.
     Default,
-    /// From the side, the whole trajectory in view (the paper's Fig. 13).
+    /// From the side, the whole trajectory in view (the paper's Fig. 13), heights exaggerated.
     Side,
-    /// Keep the direction, fit everything.
+    /// A chase camera close behind the stone.
+    Follow,
+    /// From above.
+    Top,
+    /// Keep the direction, fit everything (then the camera is free).
     FrameAll,
 }
 
@@ -67,12 +83,16 @@ pub enum Phase {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimControls {
     pub phase: Phase,
-    /// Slow motion: simulated seconds per real second (0.01 – 1).
+    /// Playback: simulated seconds per real second (0.01 – 4).
     pub speed: f64,
     /// Simulated time (s).
     pub time: f64,
-    /// The stone's outcome, once decided ("sank", …).
-    pub outcome: Option<&'static str>,
+    /// The stone's outcome in words, once decided ("sank", "left the lake", …).
+    pub outcome: Option<String>,
+    /// The run is over and the water calm: the app rests until there is input.
+    pub resting: bool,
+    /// A replay is running, with this many live physics changes.
+    pub replaying: Option<usize>,
     /// Edits to the launch, stone or water wait for the next throw or reset.
     pub pending_changes: bool,
     /// Simulated time dropped because the physics could not keep up (s), in all and in the last
@@ -88,7 +108,6 @@ pub struct SimControls {
 /// View settings edited by [`view_ui`] and [`display_ui`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ViewSettings {
-    pub follow: bool,
     pub show_settings: bool,
     pub show_readouts: bool,
     pub show_trail: bool,
@@ -103,7 +122,6 @@ pub struct ViewSettings {
 impl Default for ViewSettings {
     fn default() -> Self {
         Self {
-            follow: false,
             show_settings: true,
             show_readouts: true,
             show_trail: true,
@@ -128,7 +146,10 @@ pub struct Readouts {
     pub in_contact: bool,
     /// Wetted area at the last step (m²).
     pub wetted_area: f64,
-    pub outcome: Option<&'static str>,
+    /// In words.
+    pub outcome: Option<String>,
+    /// Horizontal distance slid in the last contact if it was a glide (m).
+    pub glide: Option<f64>,
     /// Ticks run in the last frame.
     pub ticks_last_frame: u32,
     pub dt: f64,

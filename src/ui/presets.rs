@@ -25,8 +25,8 @@ pub struct PresetLibrary {
 
 impl PresetLibrary {
     /// Finds the shipped presets (beside the working directory, the executable, or the source tree)
-    /// and the user's directory (`$XDG_CONFIG_HOME/stoneskip/presets` or
-    /// `~/.config/stoneskip/presets`).
+    /// and the user's directory (the platform's config folder: on Linux
+    /// `$XDG_CONFIG_HOME/stoneskip/presets` or `~/.config/stoneskip/presets`).
     pub fn discover() -> Self {
         let mut lib = Self {
             shipped_dir: shipped_dir(),
@@ -83,12 +83,10 @@ fn shipped_dir() -> Option<PathBuf> {
     candidates.into_iter().find(|p| p.is_dir())
 }
 
+/// The user's presets: the platform's config folder for stoneskip (`directories`; on Linux
+/// `$XDG_CONFIG_HOME/stoneskip` or `~/.config/stoneskip`), `presets` inside it.
 fn user_dir() -> Option<PathBuf> {
-    let base = std::env::var_os("XDG_CONFIG_HOME")
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))?;
-    Some(base.join("stoneskip").join("presets"))
+    directories::ProjectDirs::from("", "", "stoneskip").map(|p| p.config_dir().join("presets"))
 }
 
 /// A file name from a preset name: letters, digits, '-' and '_' kept, the rest as '_'.

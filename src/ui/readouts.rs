@@ -93,13 +93,64 @@ pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
             }
             ui.end_row();
             ui.label("Outcome");
-            ui.label(r.outcome.unwrap_or("—"));
+            ui.label(r.outcome.as_deref().unwrap_or("—"));
             ui.end_row();
+            if let Some(g) = r.glide {
+                ui.label("Glide").on_hover_text(
+                    "The last contact was a planing slide, not a bounce: its distance is part of \
+                     the distance above",
+                );
+                ui.monospace(format!("{g:.2} m slid on the water"));
+                ui.end_row();
+            }
         });
 }
 
-/// The table of contact episodes.
-pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent]) {
+/// What a contact episode was, from its own data (duration and speeds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactKind {
+    /// Still going on.
+    Open,
+    /// Ended with the stone in the air.
+    Skip,
+    /// Did not end in the air, after a short contact.
+    Sank,
+    /// Did not end in the air, after sliding farther than [`GLIDE_DIAMETERS`] stone diameters: a
+    /// planing slide, not a bounce.
+    Glide,
+}
+
+/// A contact that slides farther than this many stone diameters without leaving the water is a
+/// glide (a bounce's contact lasts one stiff-spring half-period, a few diameters at most).
+pub const GLIDE_DIAMETERS: f64 = 5.0;
+
+/// Horizontal distance slid during a contact (m): its duration times the mean of the entry and
+/// exit horizontal speeds.
+pub fn slide_distance(c: &ContactEvent) -> f64 {
+    let h = |v: [f64; 3]| v[0].hypot(v[1]);
+    let d = (c.t_end - c.t_start).max(0.0) * 0.5 * (h(c.v_in) + h(c.v_out));
+    if d.is_finite() {
+        d
+    } else {
+        0.0
+    }
+}
+
+/// Classifies a contact of a stone `radius` metres across its half-width.
+pub fn contact_kind(c: &ContactEvent, radius: f64) -> ContactKind {
+    if c.open {
+        ContactKind::Open
+    } else if c.skip {
+        ContactKind::Skip
+    } else if slide_distance(c) > GLIDE_DIAMETERS * 2.0 * radius {
+        ContactKind::Glide
+    } else {
+        ContactKind::Sank
+    }
+}
+
+/// The table of contact episodes (`radius`: the stone's half-width, for telling a glide).
+pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
     if contacts.is_empty() {
         ui.weak("no contact yet");
         return;
@@ -110,25 +161,33 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent]) {
         .show(ui, |ui| {
             egui::Grid::new("contacts_grid")
                 .striped(true)
-                .num_columns(6)
+                .num_columns(7)
                 .spacing([10.0, 2.0])
                 .show(ui, |ui| {
-                    for h in ["#", "t (s)", "ms", "x (m)", "v in", "β in"] {
-                        ui.label(RichText::new(h).strong());
+                    for (h, tip) in [
+                        ("#", "skip: ended in the air; glide: a planing slide that never left the water"),
+                        ("t (s)", "start of the contact"),
+                        ("ms", "duration"),
+                        ("x (m)", "where it started"),
+                        ("slid (m)", "horizontal distance during the contact"),
+                        ("v in", "speed at the start (m/s)"),
+                        ("β in", "angle of the velocity below the horizontal at the start"),
+                    ] {
+                        ui.label(RichText::new(h).strong()).on_hover_text(tip);
                     }
                     ui.end_row();
                     for (i, c) in contacts.iter().enumerate() {
-                        let mark = if c.open {
-                            "..."
-                        } else if c.skip {
-                            "skip"
-                        } else {
-                            "sank"
+                        let (mark, color) = match contact_kind(c, radius) {
+                            ContactKind::Open => ("...", ui.visuals().text_color()),
+                            ContactKind::Skip => ("skip", egui::Color32::from_rgb(140, 235, 110)),
+                            ContactKind::Sank => ("sank", egui::Color32::from_rgb(255, 120, 100)),
+                            ContactKind::Glide => ("glide", egui::Color32::from_rgb(120, 200, 255)),
                         };
-                        ui.label(format!("{} {mark}", i + 1));
+                        ui.label(RichText::new(format!("{} {mark}", i + 1)).color(color));
                         ui.monospace(format!("{:.3}", c.t_start));
                         ui.monospace(format!("{:.1}", 1000.0 * (c.t_end - c.t_start)));
                         ui.monospace(format!("{:.2}", c.x));
+                        ui.monospace(format!("{:.2}", slide_distance(c)));
                         ui.monospace(format!("{:.2}", DVec3::from_array(c.v_in).length()));
                         ui.monospace(format!("{:.1}°", c.beta_in));
                         ui.end_row();
@@ -137,13 +196,56 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent]) {
         });
 }
 
+/// One earlier throw in the ghosts' table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GhostRow {
+    pub number: u64,
+    pub skips: usize,
+    pub distance: f64,
+    pub outcome: String,
+    pub color: egui::Color32,
+}
+
+/// The last few throws, drawn as ghosts in the view, with their skips and distances.
+pub fn ghosts_ui(ui: &mut Ui, rows: &[GhostRow]) {
+    if rows.is_empty() {
+        ui.weak("earlier throws appear here (and as faint trails in the view)");
+        return;
+    }
+    egui::Grid::new("ghosts_grid")
+        .striped(true)
+        .num_columns(4)
+        .spacing([12.0, 2.0])
+        .show(ui, |ui| {
+            for h in ["throw", "skips", "distance", "outcome"] {
+                ui.label(RichText::new(h).strong());
+            }
+            ui.end_row();
+            for r in rows.iter().rev() {
+                ui.label(RichText::new(format!("#{}", r.number)).color(r.color));
+                ui.monospace(format!("{}", r.skips));
+                ui.monospace(format!("{:.2} m", r.distance));
+                ui.label(&r.outcome);
+                ui.end_row();
+            }
+        });
+}
+
 /// Height (m), speed (m/s) and wetted area (cm²) over time up to `end`, sharing the time axis
 /// (series as [`PlotSeries::decimated`] gives them).
 pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 3], end: f64) {
     let link = egui::Id::unique("stoneskip_plots_x");
     let looks = [
-        ("height", "z (m)", egui::Color32::from_rgb(120, 200, 255)),
-        ("speed", "|v| (m/s)", egui::Color32::from_rgb(255, 200, 90)),
+        (
+            "height",
+            "height z (m)",
+            egui::Color32::from_rgb(120, 200, 255),
+        ),
+        (
+            "speed",
+            "speed |v| (m/s)",
+            egui::Color32::from_rgb(255, 200, 90),
+        ),
         (
             "wetted",
             "wet (cm²)",
@@ -151,9 +253,10 @@ pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 3], end: f64) {
         ),
     ];
     for ((id, label, color), data) in looks.into_iter().zip(series.iter()) {
-        ui.label(RichText::new(label).small());
         Plot::new(id)
-            .height(78.0)
+            .height(if id == "wetted" { 96.0 } else { 82.0 })
+            .y_axis_label(label)
+            .x_axis_label(if id == "wetted" { "time t (s)" } else { "" })
             .link_axis(link, [true, false])
             .allow_scroll(false)
             .allow_zoom(false)
@@ -282,8 +385,19 @@ pub fn export_ui(ui: &mut Ui, has_samples: bool, actions: &mut Vec<Action>) {
         {
             actions.push(Action::ExportCsv);
         }
-        if ui.button("Screenshot PNG").clicked() {
-            actions.push(Action::Screenshot);
+        if ui
+            .button("Window PNG")
+            .on_hover_text("The whole window, panels included")
+            .clicked()
+        {
+            actions.push(Action::Screenshot { panels: true });
+        }
+        if ui
+            .button("View PNG")
+            .on_hover_text("The 3D view alone, without the panels")
+            .clicked()
+        {
+            actions.push(Action::Screenshot { panels: false });
         }
     });
 }

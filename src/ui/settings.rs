@@ -5,16 +5,30 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    ForceLaw, Integrator, Launch, Limiter, Physics, Precision, PressureCentre, Rotation, Shape,
-    StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
+    AxialSpin, ForceLaw, Integrator, Launch, Limiter, Physics, Precision, PressureCentre,
+    PressureSign, Rotation, Shape, StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS,
+    SAVITSKY_CENTRE,
 };
 
 use super::ViewSettings;
 
 const TAU: f64 = std::f64::consts::TAU;
 
+/// What a typed number means: a finite number, or nothing (then the field keeps its old value).
+/// Rust's parser accepts "nan" and "inf", which a clamped slider would turn into its maximum.
+pub fn parse_finite(text: &str) -> Option<f64> {
+    text.trim()
+        .trim_end_matches(['°', '%', '×'])
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+}
+
 fn slider<'a>(value: &'a mut f64, range: std::ops::RangeInclusive<f64>) -> Slider<'a> {
-    Slider::new(value, range).clamping(SliderClamping::Always)
+    Slider::new(value, range)
+        .clamping(SliderClamping::Always)
+        .custom_parser(parse_finite)
 }
 
 fn grid(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui) -> bool) -> bool {
@@ -98,18 +112,21 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
         let r = ui.horizontal(|ui| {
             let a = ui.add(
                 egui::DragValue::new(&mut p[0])
+                    .custom_parser(parse_finite)
                     .range(-50.0..=50.0)
                     .speed(0.05)
                     .prefix("x "),
             );
             let b = ui.add(
                 egui::DragValue::new(&mut p[1])
+                    .custom_parser(parse_finite)
                     .range(-50.0..=50.0)
                     .speed(0.05)
                     .prefix("y "),
             );
             let z = ui.add(
                 egui::DragValue::new(&mut p[2])
+                    .custom_parser(parse_finite)
                     .range(0.0..=5.0)
                     .speed(0.01)
                     .prefix("z "),
@@ -128,6 +145,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
                     changed |= ui
                         .add(
                             egui::DragValue::new(&mut launch.angular_velocity[i])
+                                .custom_parser(parse_finite)
                                 .range(-100.0..=100.0)
                                 .speed(0.1)
                                 .prefix(format!("{axis} ")),
@@ -252,6 +270,7 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
             |ui| {
                 ui.add(
                     Slider::new(&mut stone.segments, 8..=128)
+                        .custom_parser(parse_finite)
                         .clamping(SliderClamping::Always)
                         .suffix(" segments"),
                 )
@@ -309,6 +328,31 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         );
         c |= ui.checkbox(&mut physics.ventilated, "").changed();
         ui.end_row();
+        if !physics.ventilated {
+            ui.label("Receding faces").on_hover_text(
+                "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed                  along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its                  own normal velocity (never gains energy).",
+            );
+            let before = physics.pressure_sign;
+            ui.horizontal(|ui| {
+                ui.radio_value(
+                    &mut physics.pressure_sign,
+                    PressureSign::AsPrinted,
+                    "As printed",
+                );
+                ui.radio_value(
+                    &mut physics.pressure_sign,
+                    PressureSign::OpposesMotion,
+                    "Opposes motion",
+                );
+            });
+            ui.end_row();
+            c |= before != physics.pressure_sign;
+        }
+        ui.label("Buoyancy").on_hover_text(
+            "Hydrostatic pressure ρ g d on each loaded face (Archimedes): matters once the stone is deep",
+        );
+        c |= ui.checkbox(&mut physics.buoyancy, "").changed();
+        ui.end_row();
         ui.label("Integrator");
         let before = physics.integrator;
         egui::ComboBox::from_id_salt("integrator")
@@ -364,6 +408,16 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
                 );
             }
             c |= before != physics.pressure_centre;
+            ui.label("Axial spin").on_hover_text(
+                "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves                  no water normal to its surface (only friction feels it). Faceted: the mesh's flat facets                  paddle the water as they spin.",
+            );
+            let before = physics.axial_spin;
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut physics.axial_spin, AxialSpin::Smooth, "Smooth");
+                ui.radio_value(&mut physics.axial_spin, AxialSpin::Faceted, "Faceted");
+            });
+            ui.end_row();
+            c |= before != physics.axial_spin;
         }
         c |= row(
             ui,
@@ -548,7 +602,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
     ui.checkbox(&mut view.show_trail, "Trajectory trail");
     ui.checkbox(
         &mut view.show_markers,
-        "Contact markers (green: skip, red: sank)",
+        "Contact markers (green: skip, red: did not leave the water)",
     );
     ui.checkbox(&mut view.show_splashes, "Splash cues");
     ui.horizontal(|ui| {
@@ -557,6 +611,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
         );
         ui.add(
             Slider::new(&mut view.ripple_gain, 0.0..=5.0)
+                .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .suffix("×"),
         );
@@ -568,8 +623,88 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
         );
         ui.add(
             Slider::new(&mut view.render_scale, 0.25..=1.0)
+                .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .custom_formatter(|v, _| format!("{:.0} %", v * 100.0)),
         );
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn typing_nan_or_inf_keeps_the_old_value() {
+        // egui keeps a field's value when its parser returns None.
+        for bad in [
+            "nan", "NaN", "-nan", "inf", "-inf", "infinity", "1e400", "", "abc",
+        ] {
+            assert_eq!(parse_finite(bad), None, "{bad}");
+        }
+        assert_eq!(parse_finite(" 3.5 "), Some(3.5));
+        assert_eq!(parse_finite("20°"), Some(20.0));
+        assert_eq!(parse_finite("-1e-3"), Some(-1e-3));
+    }
+
+    /// Types `text` into a slider's value box as a user does (click the number, clear it, type,
+    /// Enter) and returns the value afterwards.
+    fn type_into_slider(start: f64, text: &str) -> f64 {
+        let ctx = egui::Context::default();
+        let mut value = start;
+        let mut t = 0.0;
+        let mut frame = |events: Vec<egui::Event>, value: &mut f64| -> egui::Rect {
+            t += 0.1;
+            let input = egui::RawInput {
+                screen_rect: Some(egui::Rect::from_min_size(
+                    egui::Pos2::ZERO,
+                    egui::vec2(800.0, 600.0),
+                )),
+                time: Some(t),
+                events,
+                ..Default::default()
+            };
+            let mut rect = egui::Rect::NOTHING;
+            let mut out = ctx.run_ui(input, |ui| {
+                rect = ui.add(slider(value, 0.5..=40.0).suffix(" m/s")).rect;
+            });
+            out.textures_delta.clear();
+            rect
+        };
+        let rect = frame(vec![], &mut value);
+        // The value box is at the slider's right end.
+        let p = egui::pos2(rect.right() - 12.0, rect.center().y);
+        let button = |pressed| egui::Event::PointerButton {
+            pos: p,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        };
+        let key = |key| egui::Event::Key {
+            key,
+            physical_key: None,
+            pressed: true,
+            repeat: false,
+            modifiers: egui::Modifiers::NONE,
+        };
+        frame(vec![egui::Event::PointerMoved(p), button(true)], &mut value);
+        frame(vec![button(false)], &mut value);
+        frame(vec![], &mut value);
+        let mut typing: Vec<egui::Event> = (0..16).map(|_| key(egui::Key::Backspace)).collect();
+        typing.extend((0..16).map(|_| key(egui::Key::Delete)));
+        typing.push(egui::Event::Text(text.to_owned()));
+        frame(typing, &mut value);
+        frame(vec![key(egui::Key::Enter)], &mut value);
+        frame(vec![], &mut value);
+        value
+    }
+
+    #[test]
+    fn typing_into_a_slider_takes_numbers_and_refuses_nan() {
+        // The typing path works: a number is taken …
+        assert_eq!(type_into_slider(12.5, "20"), 20.0);
+        // … "nan" and "inf" keep the old value (they used to set the maximum).
+        assert_eq!(type_into_slider(12.5, "nan"), 12.5);
+        assert_eq!(type_into_slider(12.5, "inf"), 12.5);
+    }
 }

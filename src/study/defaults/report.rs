@@ -1,398 +1,57 @@
-//! Defaults study (design.md §8: "defaults are the cheapest settings whose error is under 1 % on the
-//! chart"): for the Adaptive tolerance, the tick dt, the mesh's rim segments and the water cell,
-//! the cheapest value whose error stays under 1 % — at that value and every finer one — on the
-//! accuracy study's three throws, then a check of the chosen settings together, and a comparison
-//! with `Preset::default()` and the shipped presets (`assets/presets/*.ron`).
-
-use std::path::Path;
-
-use rayon::prelude::*;
+//! The defaults study's outputs: knobs.csv, the defaults chart and the Markdown report, from
+//! [`Results`].
 
 use crate::sim::params::{Integrator, Preset};
 
-use super::accuracy::{
-    self, errors, measure, name, throw_preset, Errors, MeshPoint, Setting, WaterPoint, REF_TICK,
-    REF_TOLERANCE,
+use super::{
+    evals_of, shipped_presets, ticks, tolerances, worst_of, KnobPoint, Recommendation, Results,
+    TARGET,
 };
-use super::plot::{self, colors, Chart, Legend, Mark, Panel, RefLine, Series};
-use super::table::{md_table, pct, sig, Csv};
-use super::throws::{self, throw_list, Throw};
-use super::{check_cancel, Ctx, StudyError};
+use crate::study::accuracy::{self, MeshPoint, WaterPoint};
+use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
+use crate::study::style::{colors, integrator_name};
+use crate::study::table::{md_table, pct, sig, Csv};
+use crate::study::throws::throw_list;
+use crate::study::{Ctx, StudyError};
 
-/// A fixed-step scheme's sweep: (integrator, largest step under 1 %, its force evaluations, runs).
-type FixedResult = (Integrator, Option<f64>, Option<u64>, Vec<KnobPoint>);
-
-/// The error bound of the defaults.
-pub const TARGET: f64 = 0.01;
-
-/// One run of a knob on a throw.
-#[derive(Debug, Clone)]
-pub struct KnobPoint {
-    pub throw: Throw,
-    pub setting: Setting,
-    pub value: f64,
-    pub force_evals: u64,
-    pub wall_per_sim_s: f64,
-    pub err: Errors,
+/// Writes knobs.csv, defaults.png and the report.
+pub fn write(ctx: &Ctx, res: &Results) -> Result<(), StudyError> {
+    ctx.write_csv("knobs.csv", &knobs_csv(res))?;
+    let (c1, c2) = adaptive_charts(ctx, res);
+    let (c3, c4) = resolution_charts(ctx, res);
+    plot::draw(
+        &ctx.path("defaults.png"),
+        (1600, 1200),
+        2,
+        Some("Defaults: the cheapest settings under 1 % error"),
+        &[
+            Panel::Chart(c1),
+            Panel::Chart(c2),
+            Panel::Chart(c3),
+            Panel::Chart(c4),
+        ],
+    )?;
+    let mut s = summary_md(ctx, res);
+    s.push_str(&grid_md(ctx, res));
+    s.push_str(&fixed_md(res));
+    s.push_str(&combo_md(res));
+    s.push_str(&water_md(res));
+    s.push_str(&shipped_md(ctx, res));
+    ctx.write("README.md", &s)
 }
 
-/// Runs `settings` on every throw against the references (Adaptive at 1e-12).
-fn knob_sweep(
-    references: &[(Throw, accuracy::RunStats)],
-    settings: &[Setting],
-    value: impl Fn(&Setting) -> f64 + Sync,
-) -> Result<Vec<KnobPoint>, StudyError> {
-    let jobs: Vec<(usize, Setting)> = (0..references.len())
-        .flat_map(|k| settings.iter().map(move |s| (k, *s)))
-        .collect();
-    jobs.par_iter()
-        .map(|(k, s)| {
-            check_cancel()?;
-            let (t, r) = &references[*k];
-            let stats = measure(&throw_preset(t, s)?)?;
-            Ok(KnobPoint {
-                throw: *t,
-                setting: *s,
-                value: value(s),
-                force_evals: stats.force_evals,
-                wall_per_sim_s: stats.wall_per_sim_s(),
-                err: errors(&stats, r),
-            })
-        })
-        .collect()
-}
-
-/// The cheapest value: the one, among those where every throw is under the target at that value
-/// and every finer one, that is coarsest. `finer_is_smaller`: finer values are smaller numbers.
-pub fn cheapest<T: Copy>(
-    values: &[f64],
-    ok_at: impl Fn(f64) -> Option<T>,
-    finer_is_smaller: bool,
-) -> Option<(f64, T)> {
-    let mut v: Vec<f64> = values.to_vec();
-    v.sort_by(|a, b| {
-        if finer_is_smaller {
-            a.total_cmp(b)
-        } else {
-            b.total_cmp(a)
-        }
-    });
-    let mut best = None;
-    for x in v {
-        match ok_at(x) {
-            Some(t) => best = Some((x, t)),
-            None => break,
-        }
-    }
-    best
-}
-
-fn worst_at(points: &[KnobPoint], value: f64) -> f64 {
-    points
-        .iter()
-        .filter(|p| p.value == value)
-        .map(|p| p.err.worst())
-        .fold(0.0, f64::max)
-}
-
-fn evals_at(points: &[KnobPoint], value: f64) -> u64 {
-    points
-        .iter()
-        .filter(|p| p.value == value)
-        .map(|p| p.force_evals)
-        .sum()
-}
-
-/// The recommended settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Recommendation {
-    /// Cheapest (tolerance, tick) with the tick at most one 60 Hz frame.
-    pub tolerance: Option<f64>,
-    pub tick: Option<f64>,
-    /// Cheapest (tolerance, tick) over every swept tick, and its force evaluations.
-    pub free: Option<(f64, f64, u64)>,
-    pub segments: Option<u32>,
-    pub cell: Option<f64>,
-    pub cell_10pct: Option<f64>,
-}
-
-/// Settings of the shipped presets.
-#[derive(Debug, Clone)]
-pub struct Shipped {
-    pub name: String,
-    pub integrator: Integrator,
-    pub tolerance: f64,
-    pub dt: f64,
-    pub segments: u32,
-    pub cell: f64,
-    pub water: bool,
-    /// The stone is a lens (the shape the segments were swept for).
-    pub lens: bool,
-}
-
-fn shipped_of(name: &str, p: &Preset) -> Shipped {
-    Shipped {
-        name: name.to_owned(),
-        integrator: p.physics.integrator,
-        tolerance: p.physics.tolerance,
-        dt: p.physics.dt,
-        segments: p.stone.segments,
-        cell: p.water.cell,
-        water: p.water.enabled,
-        lens: matches!(p.stone.shape, crate::sim::params::Shape::Lens { .. }),
+/// Force evaluations of the chosen (tolerance, tick) over the throws.
+fn chosen_cost(res: &Results) -> Option<u64> {
+    match (res.rec.tolerance, res.rec.tick) {
+        (Some(tl), Some(tk)) => Some(evals_of(&res.grid, tk, tl)),
+        _ => None,
     }
 }
 
-/// `Preset::default()` and every preset in `assets/presets` (read at run time; missing folder:
-/// only the default).
-pub fn shipped_presets() -> Vec<Shipped> {
-    let mut out = vec![shipped_of("Preset::default()", &Preset::default())];
-    let dir = Path::new("assets/presets");
-    if let Ok(rd) = std::fs::read_dir(dir) {
-        let mut files: Vec<_> = rd
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "ron"))
-            .collect();
-        files.sort();
-        for f in files {
-            if let Ok(p) = crate::preset::load(&f) {
-                let n = f.file_name().map_or_else(
-                    || f.display().to_string(),
-                    |n| n.to_string_lossy().into_owned(),
-                );
-                out.push(shipped_of(&n, &p));
-            }
-        }
-    }
-    out
-}
-
-/// One 60 Hz frame (s): the longest tick the app can show without dropping to a slower pace.
-pub const FRAME: f64 = 1.0 / 60.0;
-
-fn tolerances(quick: bool) -> Vec<f64> {
-    if quick {
-        vec![1e-3, 1e-5, 1e-7]
-    } else {
-        vec![1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 1e-7, 1e-8]
-    }
-}
-
-fn ticks(quick: bool) -> Vec<f64> {
-    if quick {
-        vec![0.05, 0.01, 2e-3, 5e-4]
-    } else {
-        vec![0.05, 0.02, FRAME, 0.01, 5e-3, 2e-3, 1e-3, 5e-4]
-    }
-}
-
-fn worst_of(points: &[KnobPoint], tick: f64, tol: f64) -> f64 {
-    points
-        .iter()
-        .filter(|p| p.setting.dt == tick && p.setting.tolerance == tol)
-        .map(|p| p.err.worst())
-        .fold(0.0, f64::max)
-}
-
-fn evals_of(points: &[KnobPoint], tick: f64, tol: f64) -> u64 {
-    points
-        .iter()
-        .filter(|p| p.setting.dt == tick && p.setting.tolerance == tol)
-        .map(|p| p.force_evals)
-        .sum()
-}
-
-/// The cheapest (tolerance, tick, force evals) with tick ≤ `max_tick` whose worst error is under
-/// the target there and at every finer pair (smaller or equal tick and tolerance).
-pub fn best_pair(
-    points: &[KnobPoint],
-    ticks: &[f64],
-    tols: &[f64],
-    max_tick: f64,
-) -> Option<(f64, f64, u64)> {
-    let mut best: Option<(f64, f64, u64)> = None;
-    for &tk in ticks.iter().filter(|&&t| t <= max_tick * (1.0 + 1e-9)) {
-        for &tl in tols {
-            let robust = ticks.iter().filter(|&&t| t <= tk).all(|&t| {
-                tols.iter()
-                    .filter(|&&l| l <= tl)
-                    .all(|&l| worst_of(points, t, l) < TARGET)
-            });
-            if !robust {
-                continue;
-            }
-            let e = evals_of(points, tk, tl);
-            if best.map_or(true, |b| e < b.2) {
-                best = Some((tl, tk, e));
-            }
-        }
-    }
-    best
-}
-
-pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
-    let quick = ctx.quick;
-    // References.
-    let mut refs = Vec::new();
-    for t in &throw_list(ctx.quick) {
-        ctx.progress(&format!("reference of the {} throw", t.key));
-        let s = Setting {
-            integrator: Integrator::Adaptive,
-            dt: REF_TICK,
-            tolerance: REF_TOLERANCE,
-        };
-        refs.push((*t, measure(&throw_preset(t, &s)?)?));
-    }
-
-    // 1–2. Tolerance × tick of the Adaptive integrator.
-    ctx.progress("Adaptive tolerance × tick");
-    let tols = tolerances(quick);
-    let ticks = ticks(quick);
-    let grid_set: Vec<Setting> = ticks
-        .iter()
-        .flat_map(|&dt| {
-            tols.iter().map(move |&tolerance| Setting {
-                integrator: Integrator::Adaptive,
-                dt,
-                tolerance,
-            })
-        })
-        .collect();
-    let grid_pts = knob_sweep(&refs, &grid_set, |s| s.tolerance)?;
-    let pick = |max_tick: f64| best_pair(&grid_pts, &ticks, &tols, max_tick);
-    let framed = pick(FRAME);
-    let free = pick(f64::INFINITY);
-    // 3. Fixed-step schemes: their largest step under 1 %, for the cost comparison.
-    ctx.progress("fixed-step schemes under 1 %");
-    let mut fixed = Vec::new();
-    for i in [
-        Integrator::Paper,
-        Integrator::SymplecticEuler,
-        Integrator::Rk4,
-    ] {
-        // RK4 meets 1 % at millisecond steps (accuracy study); the first-order schemes need
-        // tens of microseconds.
-        let fixed_dts: Vec<f64> = match (quick, i) {
-            (true, _) => vec![1e-3, 2e-4, 5e-5],
-            (false, Integrator::Rk4) => super::logspace(1e-4, 5e-3, 6),
-            (false, _) => super::logspace(1e-5, 2e-3, 7),
-        };
-        let set: Vec<Setting> = fixed_dts
-            .iter()
-            .map(|&dt| Setting {
-                integrator: i,
-                dt,
-                tolerance: 1e-6,
-            })
-            .collect();
-        let pts = knob_sweep(&refs, &set, |s| s.dt)?;
-        let pick = cheapest(
-            &fixed_dts,
-            |v| (worst_at(&pts, v) < TARGET).then_some(()),
-            true,
-        )
-        .map(|p| p.0);
-        fixed.push((i, pick, pick.map(|d| evals_at(&pts, d)), pts));
-    }
-
-    // 4. Mesh and 5. water, from the accuracy study's sweeps.
-    ctx.progress("mesh resolution");
-    let mesh = accuracy::mesh_sweep(ctx, &throw_list(quick))?;
-    let segs = accuracy::mesh_segments(quick);
-    let finest = segs.last().copied().unwrap_or(32);
-    let mesh_ok = |n: f64| {
-        let w = mesh
-            .iter()
-            .filter(|m| f64::from(m.segments) == n)
-            .map(|m| m.err.worst())
-            .fold(0.0, f64::max);
-        (w < TARGET).then_some(())
-    };
-    let seg_values: Vec<f64> = segs
-        .iter()
-        .filter(|&&n| n != finest)
-        .map(|&n| f64::from(n))
-        .collect();
-    let seg_pick = cheapest(&seg_values, mesh_ok, false).map(|p| p.0 as u32);
-    ctx.progress("water cell");
-    let water = accuracy::water_sweep(ctx)?;
-    let wref = water.last().map_or(0.0, |w| w.cell);
-    let cells: Vec<f64> = water
-        .iter()
-        .map(|w| w.cell)
-        .filter(|c| *c != wref)
-        .collect();
-    let cell_ok = |tol: f64| {
-        let water = &water;
-        move |c: f64| {
-            water
-                .iter()
-                .find(|w| w.cell == c)
-                .filter(|w| w.eta_smooth_err < tol)
-                .map(|_| ())
-        }
-    };
-    let cell_pick = cheapest(&cells, cell_ok(TARGET), true).map(|p| p.0);
-    let cell_10 = cheapest(&cells, cell_ok(0.1), true).map(|p| p.0);
-
-    let rec = Recommendation {
-        tolerance: framed.map(|p| p.0),
-        tick: framed.map(|p| p.1),
-        free,
-        segments: seg_pick,
-        cell: cell_pick,
-        cell_10pct: cell_10,
-    };
-
-    // 6. The chosen settings together, against the fine reference (finest mesh, tolerance 1e-12).
-    ctx.progress("check of the chosen settings together");
-    let combo = combined_check(&rec, &mesh, finest, quick)?;
-
-    write(ctx, &rec, &grid_pts, &fixed, &mesh, finest, &water, &combo)
-}
-
-/// Each throw with the recommended tolerance, tick and segments against the finest mesh at
-/// tolerance 1e-9 (the mesh sweep's reference runs): (throw, errors, force evals, wall s per sim s).
-fn combined_check(
-    rec: &Recommendation,
-    mesh: &[MeshPoint],
-    finest: u32,
-    quick: bool,
-) -> Result<Vec<(Throw, Errors, u64, f64)>, StudyError> {
-    throw_list(quick)
-        .par_iter()
-        .map(|t| {
-            let r = mesh
-                .iter()
-                .find(|m| m.throw.key == t.key && m.segments == finest)
-                .map(|m| m.stats.clone())
-                .ok_or_else(|| {
-                    StudyError::Failed(format!("no {finest}-segment run of {}", t.key))
-                })?;
-            let mut b = throws::base(
-                Integrator::Adaptive,
-                rec.tick.unwrap_or_else(accuracy::shipped_tick),
-                rec.tolerance.unwrap_or(1e-6),
-            );
-            b.stone.segments = rec.segments.unwrap_or(32);
-            let s = measure(&throws::preset(t, &b)?)?;
-            Ok((*t, errors(&s, &r), s.force_evals, s.wall_per_sim_s()))
-        })
-        .collect()
-}
-
-#[allow(clippy::too_many_arguments)]
-fn write(
-    ctx: &Ctx,
-    rec: &Recommendation,
-    grid_pts: &[KnobPoint],
-    fixed: &[FixedResult],
-    mesh: &[MeshPoint],
-    finest: u32,
-    water: &[WaterPoint],
-    combo: &[(Throw, Errors, u64, f64)],
-) -> Result<(), StudyError> {
-    let d = Preset::default();
+/// Every run of every knob.
+fn knobs_csv(res: &Results) -> Csv {
+    let grid_pts = &res.grid;
+    let fixed = &res.fixed;
     let mut csv = Csv::new(&[
         "knob",
         "integrator",
@@ -409,7 +68,7 @@ fn write(
     let push = |csv: &mut Csv, knob: &str, i: Integrator, p: &KnobPoint| {
         csv.push(vec![
             knob.into(),
-            name(i).into(),
+            integrator_name(i).into(),
             p.throw.key.into(),
             p.setting.dt.into(),
             p.setting.tolerance.into(),
@@ -429,9 +88,14 @@ fn write(
             push(&mut csv, "fixed_dt", *i, p);
         }
     }
-    ctx.write_csv("knobs.csv", &csv)?;
+    csv
+}
 
-    // Charts.
+/// Worst error and cost of Adaptive against the tolerance, one curve per tick.
+fn adaptive_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
+    let d = Preset::default();
+    let rec = &res.rec;
+    let grid_pts = &res.grid;
     let tols = tolerances(ctx.quick);
     let ticks_v = ticks(ctx.quick);
     let mut c1 = Chart::new(
@@ -491,6 +155,16 @@ fn write(
         c1 = c1.line(RefLine::v("chosen tolerance", t, colors::RED));
         c2 = c2.line(RefLine::v("chosen tolerance", t, colors::RED));
     }
+    (c1, c2)
+}
+
+/// Worst error against the rim segments and the water cell.
+fn resolution_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
+    let d = Preset::default();
+    let rec = &res.rec;
+    let mesh = &res.mesh;
+    let finest = res.finest;
+    let water = &res.water;
     let mut c3 = Chart::new(
         format!("rim segments (tolerance 1e-9, against {finest})"),
         "segments",
@@ -549,20 +223,15 @@ fn write(
     if let Some(c) = rec.cell {
         c4 = c4.line(RefLine::v("cheapest under 1 %", c, colors::RED));
     }
-    plot::draw(
-        &ctx.path("defaults.png"),
-        (1600, 1200),
-        2,
-        Some("Defaults: the cheapest settings under 1 % error"),
-        &[
-            Panel::Chart(c1),
-            Panel::Chart(c2),
-            Panel::Chart(c3),
-            Panel::Chart(c4),
-        ],
-    )?;
+    (c3, c4)
+}
 
-    // Report.
+/// The header, the recommendations table and the chart.
+fn summary_md(ctx: &Ctx, res: &Results) -> String {
+    let d = Preset::default();
+    let rec = &res.rec;
+    let grid_pts = &res.grid;
+    let mesh = &res.mesh;
     let mut s = String::from("# Defaults study: the cheapest settings under 1 % error\n\n");
     s.push_str(&format!(
         "Generated by `stoneskip study defaults{}` in {:.0} s. Error of a setting = the worst over the accuracy study's three throws ({}) of the relative distance error and the largest relative contact-duration error, counted as 100 % when the skip count differs from the reference (Adaptive at 1e-12). A setting qualifies when it and every finer setting stay under 1 %; the cheapest qualifying one is chosen. Each knob is varied with the others fine (tolerance 1e-9 for the mesh and the water; the finest mesh is the reference of the mesh sweep); the last table checks the chosen settings together.\n\n",
@@ -572,10 +241,7 @@ fn write(
     ));
     let fmt_opt = |v: Option<f64>| v.map_or("none in the sweep".to_string(), |x| sig(x, 2));
     let shipped_cost = evals_of(grid_pts, d.physics.dt, d.physics.tolerance);
-    let tol_cost = match (rec.tolerance, rec.tick) {
-        (Some(tl), Some(tk)) => Some(evals_of(grid_pts, tk, tl)),
-        _ => None,
-    };
+    let tol_cost = chosen_cost(res);
     let rows = vec![
         vec![
             "physics.tolerance (Adaptive)".into(),
@@ -625,7 +291,15 @@ fn write(
         &rows,
     ));
     s.push_str("\n![defaults](defaults.png)\n\n");
+    s
+}
 
+/// The tolerance × tick table.
+fn grid_md(ctx: &Ctx, res: &Results) -> String {
+    let grid_pts = &res.grid;
+    let tols = tolerances(ctx.quick);
+    let ticks_v = ticks(ctx.quick);
+    let mut s = String::new();
     s.push_str("## Tolerance × tick of the Adaptive integrator\n\n");
     s.push_str("Worst error over the throws (force evaluations over the throws in brackets). Adaptive flies exactly between contacts and sub-steps inside a tick, never across one, so in contact the tick caps its step: at small ticks the cap, not the tolerance, sets the cost.\n\n");
     let mut hdr = vec!["tick \\ tolerance".to_string()];
@@ -648,12 +322,20 @@ fn write(
         &hdr.iter().map(String::as_str).collect::<Vec<_>>(),
         &rows,
     ));
+    s
+}
 
+/// The fixed-step schemes at 1 %.
+fn fixed_md(res: &Results) -> String {
+    let rec = &res.rec;
+    let fixed = &res.fixed;
+    let mut s = String::new();
+    let tol_cost = chosen_cost(res);
     s.push_str("\n## Fixed-step schemes at 1 %\n\n");
     let mut rows = Vec::new();
     for (i, pick, evals, _) in fixed {
         rows.push(vec![
-            name(*i).to_string(),
+            integrator_name(*i).to_string(),
             pick.map_or("none in the sweep".into(), |d| format!("{} s", sig(d, 2))),
             evals.map_or("–".into(), |e| e.to_string()),
         ]);
@@ -672,7 +354,13 @@ fn write(
         ],
         &rows,
     ));
+    s
+}
 
+/// The chosen settings together.
+fn combo_md(res: &Results) -> String {
+    let combo = &res.combo;
+    let mut s = String::new();
     s.push_str("\n## Chosen settings together\n\n");
     let rows: Vec<Vec<String>> = combo
         .iter()
@@ -698,7 +386,14 @@ fn write(
         ],
         &rows,
     ));
+    s
+}
 
+/// The water cell table.
+fn water_md(res: &Results) -> String {
+    let water = &res.water;
+    let wref = res.water.last().map_or(0.0, |w| w.cell);
+    let mut s = String::new();
     s.push_str("\n## Mesh and water\n\n");
     let rows: Vec<Vec<String>> = water
         .iter()
@@ -730,7 +425,17 @@ fn write(
         ],
         &rows,
     ));
+    s
+}
 
+/// The shipped presets against the recommendation, and the verdict.
+fn shipped_md(ctx: &Ctx, res: &Results) -> String {
+    let d = Preset::default();
+    let rec = &res.rec;
+    let grid_pts = &res.grid;
+    let mesh = &res.mesh;
+    let water = &res.water;
+    let mut s = String::new();
     s.push_str("\n## The shipped presets\n\n");
     let rows: Vec<Vec<String>> = shipped_presets()
         .iter()
@@ -738,12 +443,12 @@ fn write(
             let mark = |ok: bool| if ok { "" } else { " ⚠" };
             vec![
                 p.name.clone(),
-                name(p.integrator).to_string(),
+                integrator_name(p.integrator).to_string(),
                 if p.integrator == Integrator::Adaptive {
                     format!(
                         "{}{}",
                         sig(p.tolerance, 1),
-                        mark(rec.tolerance.map_or(true, |t| p.tolerance <= t * 1.0001))
+                        mark(rec.tolerance.is_none_or(|t| p.tolerance <= t * 1.0001))
                     )
                 } else {
                     "– (fixed step)".into()
@@ -752,13 +457,13 @@ fn write(
                 format!(
                     "{}{}",
                     p.segments,
-                    mark(!p.lens || rec.segments.map_or(true, |n| p.segments >= n))
+                    mark(!p.lens || rec.segments.is_none_or(|n| p.segments >= n))
                 ),
                 if p.water {
                     format!(
                         "{}{}",
                         sig(p.cell, 2),
-                        mark(rec.cell_10pct.map_or(true, |c| p.cell <= c * 1.0001))
+                        mark(rec.cell_10pct.is_none_or(|c| p.cell <= c * 1.0001))
                     )
                 } else {
                     "water off".into()
@@ -792,7 +497,7 @@ fn write(
         })
     };
     s.push_str(&verdict(rec, &d, shipped_ok, water, mesh));
-    ctx.write("README.md", &s)
+    s
 }
 
 fn verdict(

@@ -1,9 +1,7 @@
-//! Charts for the studies, drawn with plotters' bitmap backend: line and point charts on linear or
-//! logarithmic axes, and class-coloured maps (the phase diagrams), one or several panels per PNG.
+//! The plotters backend of [`super`]: draws charts and maps into PNGs with the bitmap backend.
 //!
 //! Text uses DejaVu Sans, shipped in `assets/fonts/` and compiled in (`include_bytes!`), registered
-//! with plotters' ab_glyph renderer, so no system font lookup happens at run time. Values that a
-//! log axis cannot show (≤ 0, non-finite) are dropped from the drawing, never passed to plotters.
+//! with plotters' ab_glyph renderer, so no system font lookup happens at run time.
 
 use std::path::Path;
 use std::sync::OnceLock;
@@ -14,10 +12,12 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use super::StudyError;
+use super::{tick, Chart, Heatmap, Legend, Mark, Panel};
+use crate::study::style::Rgb;
+use crate::study::StudyError;
 
 /// DejaVu Sans (Bitstream Vera licence, `assets/fonts/LICENSE-DejaVu.txt`).
-static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const FAMILY: &str = "sans-serif";
 
 /// Registers the shipped font once; later calls return the first result.
@@ -34,217 +34,9 @@ pub fn ensure_font() -> Result<(), StudyError> {
     }
 }
 
-/// Colours used across the studies (colour-blind-friendly Okabe–Ito palette, plus black).
-pub mod colors {
-    use plotters::style::RGBColor;
-    pub const BLACK: RGBColor = RGBColor(0, 0, 0);
-    pub const ORANGE: RGBColor = RGBColor(230, 159, 0);
-    pub const SKY: RGBColor = RGBColor(86, 180, 233);
-    pub const GREEN: RGBColor = RGBColor(0, 158, 115);
-    pub const YELLOW: RGBColor = RGBColor(240, 228, 66);
-    pub const BLUE: RGBColor = RGBColor(0, 114, 178);
-    pub const RED: RGBColor = RGBColor(213, 94, 0);
-    pub const PURPLE: RGBColor = RGBColor(204, 121, 167);
-    pub const GREY: RGBColor = RGBColor(120, 120, 120);
-    /// A cycle for numbered series.
-    pub const CYCLE: [RGBColor; 8] = [BLUE, RED, GREEN, ORANGE, PURPLE, SKY, GREY, BLACK];
-
-    /// Colour `k` of `n` ordered values, dark blue to yellow (viridis, sampled).
-    pub fn sequential(k: usize, n: usize) -> RGBColor {
-        const V: [(f64, f64, f64); 6] = [
-            (68.0, 1.0, 84.0),
-            (65.0, 68.0, 135.0),
-            (42.0, 120.0, 142.0),
-            (34.0, 168.0, 132.0),
-            (122.0, 209.0, 81.0),
-            (220.0, 210.0, 30.0),
-        ];
-        let t = if n > 1 {
-            k as f64 / (n - 1) as f64
-        } else {
-            0.0
-        };
-        let x = t.clamp(0.0, 1.0) * (V.len() - 1) as f64;
-        let i = (x.floor() as usize).min(V.len() - 2);
-        let f = x - i as f64;
-        let c = |a: f64, b: f64| (a + (b - a) * f).round().clamp(0.0, 255.0) as u8;
-        RGBColor(
-            c(V[i].0, V[i + 1].0),
-            c(V[i].1, V[i + 1].1),
-            c(V[i].2, V[i + 1].2),
-        )
-    }
-}
-
-/// How a series is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mark {
-    Line,
-    Points,
-    LinePoints,
-    Dashed,
-}
-
-/// One labelled data series.
-#[derive(Debug, Clone)]
-pub struct Series {
-    pub label: String,
-    pub points: Vec<(f64, f64)>,
-    pub color: RGBColor,
-    pub mark: Mark,
-}
-
-impl Series {
-    pub fn new(
-        label: impl Into<String>,
-        points: Vec<(f64, f64)>,
-        color: RGBColor,
-        mark: Mark,
-    ) -> Self {
-        Self {
-            label: label.into(),
-            points,
-            color,
-            mark,
-        }
-    }
-}
-
-/// A labelled horizontal or vertical reference line (theory, published value).
-#[derive(Debug, Clone)]
-pub struct RefLine {
-    pub label: String,
-    pub value: f64,
-    pub horizontal: bool,
-    pub color: RGBColor,
-}
-
-impl RefLine {
-    pub fn h(label: impl Into<String>, value: f64, color: RGBColor) -> Self {
-        Self {
-            label: label.into(),
-            value,
-            horizontal: true,
-            color,
-        }
-    }
-    pub fn v(label: impl Into<String>, value: f64, color: RGBColor) -> Self {
-        Self {
-            label: label.into(),
-            value,
-            horizontal: false,
-            color,
-        }
-    }
-}
-
-/// Where the legend goes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Legend {
-    UpperLeft,
-    UpperRight,
-    LowerLeft,
-    LowerRight,
-    MiddleRight,
-    MiddleLeft,
-    None,
-}
-
-/// A chart of series on linear or log axes.
-#[derive(Debug, Clone)]
-pub struct Chart {
-    pub title: String,
-    pub x_label: String,
-    pub y_label: String,
-    pub x_log: bool,
-    pub y_log: bool,
-    pub x_range: Option<(f64, f64)>,
-    pub y_range: Option<(f64, f64)>,
-    pub series: Vec<Series>,
-    pub lines: Vec<RefLine>,
-    pub legend: Legend,
-}
-
-impl Chart {
-    pub fn new(
-        title: impl Into<String>,
-        x_label: impl Into<String>,
-        y_label: impl Into<String>,
-    ) -> Self {
-        Self {
-            title: title.into(),
-            x_label: x_label.into(),
-            y_label: y_label.into(),
-            x_log: false,
-            y_log: false,
-            x_range: None,
-            y_range: None,
-            series: Vec::new(),
-            lines: Vec::new(),
-            legend: Legend::UpperRight,
-        }
-    }
-    pub fn log_x(mut self) -> Self {
-        self.x_log = true;
-        self
-    }
-    pub fn log_y(mut self) -> Self {
-        self.y_log = true;
-        self
-    }
-    pub fn x_range(mut self, lo: f64, hi: f64) -> Self {
-        self.x_range = Some((lo, hi));
-        self
-    }
-    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
-        self.y_range = Some((lo, hi));
-        self
-    }
-    pub fn legend(mut self, l: Legend) -> Self {
-        self.legend = l;
-        self
-    }
-    pub fn series(mut self, s: Series) -> Self {
-        self.series.push(s);
-        self
-    }
-    pub fn line(mut self, l: RefLine) -> Self {
-        self.lines.push(l);
-        self
-    }
-}
-
-/// One cell of a class-coloured map.
-#[derive(Debug, Clone, Copy)]
-pub struct Cell {
-    pub x0: f64,
-    pub x1: f64,
-    pub y0: f64,
-    pub y1: f64,
-    pub class: usize,
-}
-
-/// A map of cells coloured by class (e.g. number of skips), with series drawn over it.
-#[derive(Debug, Clone)]
-pub struct Heatmap {
-    pub title: String,
-    pub x_label: String,
-    pub y_label: String,
-    pub x_range: (f64, f64),
-    pub y_range: (f64, f64),
-    pub cells: Vec<Cell>,
-    /// Label and colour of each class.
-    pub classes: Vec<(String, RGBColor)>,
-    pub overlays: Vec<Series>,
-    pub lines: Vec<RefLine>,
-    pub legend: Legend,
-}
-
-/// A panel of a figure.
-#[derive(Debug, Clone)]
-pub enum Panel {
-    Chart(Chart),
-    Heat(Heatmap),
+/// plotters' colour of an [`Rgb`].
+fn rgb(c: Rgb) -> RGBColor {
+    RGBColor(c.0, c.1, c.2)
 }
 
 fn plot_err(path: &Path, message: String) -> StudyError {
@@ -283,24 +75,6 @@ pub fn draw(
     Ok(())
 }
 
-/// Formats a tick value compactly: 1e-5, 0.02, 150, 2e+06.
-pub fn tick(v: f64) -> String {
-    if !v.is_finite() {
-        return String::new();
-    }
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if !(1e-3..1e5).contains(&a) {
-        let s = format!("{v:.0e}");
-        s.replace("e-0", "e-").replace("e0", "e")
-    } else {
-        let s = format!("{v:.4}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
-    }
-}
-
 fn usable(v: f64, log: bool) -> bool {
     v.is_finite() && (!log || v > 0.0)
 }
@@ -330,6 +104,30 @@ fn auto_range(vals: impl Iterator<Item = f64>, log: bool, fixed: Option<(f64, f6
         let span = if hi > lo { hi - lo } else { lo.abs().max(1.0) };
         (lo - 0.05 * span, hi + 0.05 * span)
     }
+}
+
+/// Points of a series inside the ranges (lines are cut where a point is unusable).
+fn segments(
+    points: &[(f64, f64)],
+    c: &Chart,
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Vec<Vec<(f64, f64)>> {
+    let mut out: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+    for &(x, y) in points {
+        let ok = usable(x, c.x_log) && usable(y, c.y_log);
+        if ok {
+            // Clamp into the plotting range so a wild value shows at the border, not off the chart.
+            let p = (x.clamp(xr.0, xr.1), y.clamp(yr.0, yr.1));
+            if let Some(last) = out.last_mut() {
+                last.push(p);
+            }
+        } else if out.last().is_some_and(|l| !l.is_empty()) {
+            out.push(Vec::new());
+        }
+    }
+    out.retain(|s| !s.is_empty());
+    out
 }
 
 fn legend_pos(l: Legend) -> SeriesLabelPosition {
@@ -393,30 +191,6 @@ fn draw_chart(area: &DrawingArea<BitMapBackend<'_>, Shift>, c: &Chart) -> Result
     r.map_err(|e| e.to_string())
 }
 
-/// Points of a series inside the ranges (lines are cut where a point is unusable).
-fn segments(
-    points: &[(f64, f64)],
-    c: &Chart,
-    xr: (f64, f64),
-    yr: (f64, f64),
-) -> Vec<Vec<(f64, f64)>> {
-    let mut out: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-    for &(x, y) in points {
-        let ok = usable(x, c.x_log) && usable(y, c.y_log);
-        if ok {
-            // Clamp into the plotting range so a wild value shows at the border, not off the chart.
-            let p = (x.clamp(xr.0, xr.1), y.clamp(yr.0, yr.1));
-            if let Some(last) = out.last_mut() {
-                last.push(p);
-            }
-        } else if out.last().is_some_and(|l| !l.is_empty()) {
-            out.push(Vec::new());
-        }
-    }
-    out.retain(|s| !s.is_empty());
-    out
-}
-
 fn fill_chart<'a, 'b: 'a, X, Y>(
     mut cc: ChartContext<'a, BitMapBackend<'b>, Cartesian2d<X, Y>>,
     c: &Chart,
@@ -441,7 +215,7 @@ where
         .bold_line_style(RGBColor(210, 210, 210))
         .draw()?;
     for l in &c.lines {
-        let style = l.color.stroke_width(2);
+        let style = rgb(l.color).stroke_width(2);
         let pts = if l.horizontal {
             if !usable(l.value, c.y_log) || l.value < yr.0 || l.value > yr.1 {
                 continue;
@@ -453,7 +227,7 @@ where
             }
             vec![(l.value, yr.0), (l.value, yr.1)]
         };
-        let col = l.color;
+        let col = rgb(l.color);
         cc.draw_series(DashedLineSeries::new(pts, 8, 6, style))?
             .label(l.label.as_str())
             .legend(move |(x, y)| {
@@ -463,7 +237,7 @@ where
             });
     }
     for s in &c.series {
-        let col = s.color;
+        let col = rgb(s.color);
         let segs = segments(&s.points, c, xr, yr);
         let mut labelled = false;
         let mark = s.mark;
@@ -524,8 +298,11 @@ fn side_legend(area: &DrawingArea<BitMapBackend<'_>, Shift>, h: &Heatmap) -> Res
     let style = (FAMILY, 14).into_font().color(&BLACK);
     let mut y = 60;
     for (label, col) in &h.classes {
-        area.draw(&Rectangle::new([(6, y - 7), (22, y + 7)], col.filled()))
-            .map_err(e)?;
+        area.draw(&Rectangle::new(
+            [(6, y - 7), (22, y + 7)],
+            rgb(*col).filled(),
+        ))
+        .map_err(e)?;
         area.draw(&Text::new(label.clone(), (30, y - 7), style.clone()))
             .map_err(e)?;
         y += 22;
@@ -533,7 +310,7 @@ fn side_legend(area: &DrawingArea<BitMapBackend<'_>, Shift>, h: &Heatmap) -> Res
     y += 10;
     for s in &h.overlays {
         let (a, b, rad) = legend_shape(s.mark, 5);
-        let col = s.color;
+        let col = rgb(s.color);
         area.draw(&PathElement::new(
             vec![(a.0 + 2, y), (a.1 + 2, y)],
             col.stroke_width(3),
@@ -553,7 +330,7 @@ fn side_legend(area: &DrawingArea<BitMapBackend<'_>, Shift>, h: &Heatmap) -> Res
         y += 22;
     }
     for l in &h.lines {
-        let col = l.color;
+        let col = rgb(l.color);
         area.draw(&PathElement::new(
             vec![(2, y), (11, y)],
             col.stroke_width(2),
@@ -611,7 +388,7 @@ fn fill_heat<'a, 'b: 'a>(
         let (_, col) = classes.get(cell.class)?;
         Some(Rectangle::new(
             [(cell.x0, cell.y0), (cell.x1, cell.y1)],
-            col.filled(),
+            rgb(*col).filled(),
         ))
     }))?;
     let (xr, yr) = (h.x_range, h.y_range);
@@ -621,11 +398,11 @@ fn fill_heat<'a, 'b: 'a>(
         } else {
             vec![(l.value, yr.0), (l.value, yr.1)]
         };
-        let col = l.color;
+        let col = rgb(l.color);
         cc.draw_series(DashedLineSeries::new(pts, 8, 6, col.stroke_width(2)))?;
     }
     for s in &h.overlays {
-        let col = s.color;
+        let col = rgb(s.color);
         let pts: Vec<(f64, f64)> = s
             .points
             .iter()
@@ -655,16 +432,6 @@ fn fill_heat<'a, 'b: 'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn ticks_are_compact() {
-        assert_eq!(tick(0.0), "0");
-        assert_eq!(tick(1e-5), "1e-5");
-        assert_eq!(tick(0.02), "0.02");
-        assert_eq!(tick(150.0), "150");
-        assert_eq!(tick(2e6), "2e6");
-        assert_eq!(tick(f64::NAN), "");
-    }
 
     #[test]
     fn log_ranges_are_whole_decades() {

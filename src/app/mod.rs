@@ -1,0 +1,94 @@
+//! The desktop app: a winit window with the 3D view (the scene renderer) and the egui panels.
+//!
+//! Layers, each its own module:
+//! - [`options`]: the environment hooks, read once;
+//! - [`clock`]: the fixed-step clock ("Fix your timestep": accumulate real time scaled by the
+//!   playback speed, run whole ticks of `physics.dt`, interpolate the drawn pose; pause, step,
+//!   a per-frame cap that reports the time it skipped), so the frame rate never changes a result;
+//! - [`replay`]: the last throw and its live physics changes, replayed bit for bit;
+//! - [`model`]: the run, the edited settings, the cameras, the readouts, the rest rule — no window
+//!   or GPU type, so it is unit-tested;
+//! - [`files`]: where exports and screenshots go;
+//! - `panels` and `overlays`: the egui panels and what is drawn over the 3D view;
+//! - `frame`: one frame (panels → ticks → camera → draw);
+//! - `platform`: the window, the surface and the event loop.
+
+pub mod clock;
+pub mod files;
+mod frame;
+pub mod model;
+pub mod options;
+mod overlays;
+mod panels;
+mod platform;
+pub mod replay;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{anyhow, Result};
+use winit::event_loop::EventLoop;
+
+use crate::preset;
+use crate::sim::params::Preset;
+use crate::ui::PresetLibrary;
+pub use model::Model;
+pub use options::Options;
+use platform::App;
+
+/// Opens the app with `preset` (or the shipped default) and runs until the window closes, or for
+/// `frames` frames (smoke tests: then exits 0).
+pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
+    let options = Options::from_env();
+    let (initial, source) = match &preset {
+        Some(p) => (preset::load(p)?, Some(p.clone())),
+        None => default_preset(),
+    };
+    let mut model = Model::new(initial, source, options.clone())?;
+    if options.autothrow {
+        model.throw();
+    }
+    let event_loop = EventLoop::new().map_err(|e| {
+        let why = e.to_string();
+        anyhow!(
+            "cannot open a window: {}. Is a display available (DISPLAY or WAYLAND_DISPLAY)? \
+             Without one, run it under a virtual display: `xvfb-run -a stoneskip gui`, or render a \
+             picture with `stoneskip render --preset FILE --out FILE.png`",
+            why.trim_end_matches('.')
+        )
+    })?;
+    let mut app = App {
+        title: model.title(),
+        model,
+        options,
+        gfx: None,
+        frames_limit: frames,
+        frames_drawn: 0,
+        fatal: None,
+        last_frame: None,
+        repaint_at: Some(Instant::now()),
+        continuous: false,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| anyhow!("the window's event loop failed: {e}"))?;
+    if let Some(e) = app.fatal.take() {
+        return Err(e);
+    }
+    Ok(())
+}
+
+/// The shipped default preset, or the built-in one.
+fn default_preset() -> (Preset, Option<PathBuf>) {
+    let lib = PresetLibrary::discover();
+    if let Some(p) = lib
+        .shipped
+        .iter()
+        .find(|p| p.file_stem().is_some_and(|s| s == "default"))
+    {
+        if let Ok(preset) = preset::load(p) {
+            return (preset, Some(p.clone()));
+        }
+    }
+    (Preset::default(), None)
+}

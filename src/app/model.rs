@@ -1,0 +1,1033 @@
+//! The app's model: the run, the settings being edited, the camera, the readouts — everything but
+//! the window and the GPU (no winit or wgpu type here), so its rules are unit tests: the fixed-step
+//! loop ([`FixedClock`]), replay ([`ReplayLog`]), the rest rule ([`rest_due`]), outcomes in words,
+//! warnings for implausible setups, the throw gesture and where files go.
+
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context as _, Result};
+use glam::{DQuat, DVec3, Vec2, Vec3};
+
+use super::clock::FixedClock;
+use super::files;
+use super::options::Options;
+use super::replay::ReplayLog;
+use crate::preset;
+use crate::render::build::{self, aim_preview, framing_of, ghost_lines, side_guides, thinned};
+use crate::render::camera::{camera_for, Framing, ViewMode};
+use crate::render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
+use crate::sim::params::{Integrator, Launch, Preset};
+use crate::sim::{Outcome, Simulation, StepSample};
+use crate::ui::{
+    contact_kind, slide_distance, Action, ContactKind, FrameTiming, Message, Phase, PlotSeries,
+    PresetLibrary, Readouts, ViewRequest, ViewSettings,
+};
+
+/// Most simulated time one frame may run (s, at the highest playback speed); the rest is skipped.
+pub const MAX_SIM_PER_FRAME: f64 = 0.25;
+/// Most wall time one frame may spend ticking.
+pub const PHYSICS_BUDGET: Duration = Duration::from_millis(60);
+/// Most step samples kept for the CSV export.
+pub const MAX_SAMPLES: usize = 1_000_000;
+/// Refresh rate of the numbers and plots while a throw animates …
+pub const READOUT_HZ: f64 = 2.0;
+/// … and the fewest frames between two refreshes.
+pub const READOUT_MIN_FRAMES: u64 = 4;
+/// Ripples lower than this (m) are below what the eye sees at the app's views: about a tenth of a
+/// pixel of a 1 m wide view at 1000 pixels, and a slope the shading shows as nothing.
+pub const ETA_VISIBLE: f64 = 2e-4;
+/// Simulated seconds after the outcome at which the app rests even if the water still moves (a
+/// swell never calms).
+pub const REST_AFTER: f64 = 8.0;
+/// Ghosts of earlier throws kept.
+pub const MAX_GHOSTS: usize = 4;
+/// How long an information message stays (errors stay until dismissed, or this × 5).
+pub const MESSAGE_SECONDS: f64 = 6.0;
+
+/// The rest rule: once the stone's run is over and the rings have calmed below what the eye sees
+/// (or [`REST_AFTER`] has passed since the outcome), stop stepping and drawing until there is input.
+pub fn rest_due(finished: bool, since_outcome: f64, max_abs_eta: Option<f64>) -> bool {
+    if !finished {
+        return false;
+    }
+    let calm = max_abs_eta.map_or(true, |e| !e.is_finite() || e < ETA_VISIBLE);
+    calm || since_outcome >= REST_AFTER
+}
+
+/// An outcome in words a person reads.
+pub fn outcome_words(o: Outcome) -> String {
+    let s = o.as_str();
+    match s {
+        "sank" => "sank".to_owned(),
+        "left_domain" => "left the lake".to_owned(),
+        "timeout" => "still going at the time limit".to_owned(),
+        other if other.starts_with("diverged") => {
+            let why = other
+                .trim_start_matches("diverged")
+                .trim_start_matches([':', ' ', '_']);
+            if why.is_empty() {
+                "diverged (the numbers stopped being finite)".to_owned()
+            } else {
+                format!("diverged: {}", why.replace('_', " "))
+            }
+        }
+        other => other.replace('_', " "),
+    }
+}
+
+/// Largest stable tick and largest within 1 % of each fixed-step integrator on the default stone
+/// (docs/studies/stability, table A); thinner or lighter stones need smaller steps.
+pub fn stable_step(integrator: Integrator) -> Option<(f64, f64)> {
+    match integrator {
+        Integrator::Paper => Some((0.0033, 7.0e-5)),
+        Integrator::SymplecticEuler => Some((0.0049, 0.0023)),
+        Integrator::Rk4 => Some((0.011, 0.0033)),
+        _ => None,
+    }
+}
+
+/// Warnings for setups that run but are implausible or unreliable.
+pub fn setup_warnings(p: &Preset) -> Vec<String> {
+    let mut w = Vec::new();
+    let dt = p.physics.dt;
+    if let Some((stable, accurate)) = stable_step(p.physics.integrator) {
+        if dt > stable {
+            w.push(format!(
+                "dt = {:.2} ms is above {:?}'s stable step ({:.2} ms on the default stone, stability \
+                 study): contacts may bounce super-elastically",
+                dt * 1e3,
+                p.physics.integrator,
+                stable * 1e3
+            ));
+        } else if dt > accurate {
+            w.push(format!(
+                "dt = {:.3} ms is above the step at which {:?} stays within 1 % ({:.3} ms, stability study)",
+                dt * 1e3,
+                p.physics.integrator,
+                accurate * 1e3
+            ));
+        }
+    }
+    if let Some(volume) = stone_volume(p) {
+        let density = p.stone.mass / volume;
+        if density < p.physics.water_density {
+            w.push(format!(
+                "the stone ({density:.0} kg/m³) is lighter than water ({:.0} kg/m³): a real one would float",
+                p.physics.water_density
+            ));
+        }
+    }
+    if p.water.enabled && p.water.wavy_contact && p.water.cell > 0.01 + 1e-12 {
+        w.push(format!(
+            "wavy contact on {:.1} cm cells: the study needs 1 cm or finer, or crests brushing the \
+             stone count as skips",
+            p.water.cell * 100.0
+        ));
+    }
+    w
+}
+
+/// The stone's volume from its shape (m³), when the shape has a closed form.
+fn stone_volume(p: &Preset) -> Option<f64> {
+    use crate::sim::params::Shape;
+    let v = match p.stone.shape {
+        Shape::Disk { radius, thickness } => std::f64::consts::PI * radius * radius * thickness,
+        Shape::Lens { radius, thickness } => {
+            4.0 / 3.0 * std::f64::consts::PI * radius * radius * 0.5 * thickness
+        }
+        Shape::Plate {
+            length,
+            width,
+            thickness,
+        } => length * width * thickness,
+    };
+    (v.is_finite() && v > 0.0).then_some(v)
+}
+
+/// The launch a drag-and-release gesture gives: `drag` in pixels (x right, y down) in a view
+/// `view_height` pixels tall, seen by a camera looking along `camera_yaw`. The drag's direction on
+/// screen is the throw's direction on the water (up the screen = away from the camera), its
+/// length the speed (a third of the view's height is 10 m/s, 1–30 m/s); the elevation of the
+/// velocity, the attitude relative to travel and the spin stay as the panel set them.
+pub fn gesture_launch(base: &Launch, drag: Vec2, view_height: f32, camera_yaw: f32) -> Launch {
+    let mut l = *base;
+    let len = drag.length();
+    if !len.is_finite() || len < 4.0 {
+        return l;
+    }
+    let speed = (30.0 * len / view_height.max(1.0)).clamp(1.0, 30.0) as f64;
+    // Screen up is the camera's horizontal forward, screen right its right.
+    let screen_angle = (drag.x).atan2(-drag.y);
+    let heading = (camera_yaw - screen_angle) as f64;
+    let heading = wrap(heading).clamp(-90f64.to_radians(), 90f64.to_radians());
+    let v = DVec3::from_array(base.velocity);
+    let elevation = if v.length() > 1e-9 {
+        (v.z / v.length()).clamp(-1.0, 1.0).asin()
+    } else {
+        -0.05
+    };
+    l.velocity = [
+        speed * elevation.cos() * heading.cos(),
+        speed * elevation.cos() * heading.sin(),
+        speed * elevation.sin(),
+    ];
+    l.attitude.heading_deg = heading.to_degrees();
+    l
+}
+
+fn wrap(a: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let w = a.rem_euclid(tau);
+    if w > std::f64::consts::PI {
+        w - tau
+    } else {
+        w
+    }
+}
+
+/// A status message and when it was posted.
+#[derive(Debug, Clone)]
+pub struct Status {
+    pub message: Message,
+    pub at: Instant,
+}
+
+impl Status {
+    /// Information fades after [`MESSAGE_SECONDS`], errors after five times that.
+    pub fn expired(&self) -> bool {
+        let life = if self.message.error { 5.0 } else { 1.0 } * MESSAGE_SECONDS;
+        self.at.elapsed().as_secs_f64() > life
+    }
+}
+
+/// An earlier throw kept as a ghost: its trail and score.
+#[derive(Debug, Clone)]
+pub struct Ghost {
+    pub number: u64,
+    pub points: Vec<Vec3>,
+    pub skips: usize,
+    pub distance: f64,
+    pub outcome: String,
+}
+
+/// What the panels show of the run, refreshed at most [`READOUT_HZ`] times a second while the
+/// throw animates (the panels then stay pixel-identical between refreshes).
+#[derive(Debug, Clone, Default)]
+pub struct Shown {
+    pub readouts: Readouts,
+    pub contacts: Vec<crate::sim::ContactEvent>,
+    pub plots: [Vec<egui_plot::PlotPoint>; 3],
+    pub plot_end: f64,
+    pub timing: FrameTiming,
+    pub outcome: Option<String>,
+    pub dropping_now: bool,
+    pub dropped_total: f64,
+    pub at: Option<Instant>,
+    pub frame: u64,
+}
+
+/// Frame time totals (s) for the `--frames` report.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FrameStats {
+    pub frames: u64,
+    pub wall: f64,
+    pub physics: f64,
+    pub water: f64,
+    pub render: f64,
+    pub ui: f64,
+    pub full_redraws: u64,
+    pub full_render: f64,
+}
+
+/// A screenshot asked for: with or without the panels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shot {
+    Window,
+    ViewOnly,
+}
+
+/// Everything but the window and the GPU.
+pub struct Model {
+    /// The settings the panels edit.
+    pub edit: Preset,
+    pub sim: Simulation,
+    /// Changes whenever `sim` is rebuilt.
+    pub generation: u64,
+    pub phase: Phase,
+    pub clock: FixedClock,
+    pub prev_pose: (DVec3, DQuat),
+    pub cur_pose: (DVec3, DQuat),
+    pub trail: Trail,
+    pub heights: WaterHeights,
+    pub samples: Vec<StepSample>,
+    pub plots: PlotSeries,
+    pub replay_log: ReplayLog,
+    pub ticks: u64,
+    pub camera: Camera,
+    pub view_mode: ViewMode,
+    pub exaggeration: f32,
+    pub view: ViewSettings,
+    pub timing: FrameTiming,
+    /// Mean wall time of a tick that did not step the water (s).
+    stone_tick: f64,
+    pub pending_changes: bool,
+    pub invalid: Option<String>,
+    pub warnings: Vec<String>,
+    /// Notices of the run shown over the view (text, is an error).
+    pub notices: Vec<(String, bool)>,
+    pub library: PresetLibrary,
+    pub status: Option<Status>,
+    pub screenshot: Option<Shot>,
+    pub ticks_last_frame: u32,
+    /// The 3D view's rectangle in points.
+    pub view_rect: egui::Rect,
+    pub frame_physics: f64,
+    pub frame_water: f64,
+    pub frames: u64,
+    pub stats: FrameStats,
+    pub shown: Shown,
+    pub camera_moved_at: Option<Instant>,
+    pub sharp_pending: bool,
+    /// The last frame redrew the panels too.
+    pub last_full_redraw: bool,
+    /// The app has just come to rest: one more frame, sharp and with the panels up to date.
+    pub just_rested: bool,
+    /// The run is over and the water calm: nothing steps or draws until there is input.
+    pub resting: bool,
+    /// Simulated time at which the outcome was first seen.
+    outcome_time: Option<f64>,
+    pub last_drop: Option<Instant>,
+    pub ghosts: VecDeque<Ghost>,
+    pub throws: u64,
+    pub show_help: bool,
+    pub show_about: bool,
+    /// A throw gesture in progress: where it started (points).
+    pub gesture: Option<egui::Pos2>,
+    pub out_dir: PathBuf,
+}
+
+impl Model {
+    pub fn new(preset: Preset, source: Option<PathBuf>, options: Options) -> Result<Self> {
+        let sim = Simulation::new(&preset).context("the initial preset")?;
+        let pose = sim.world_from_stone();
+        let mut library = PresetLibrary::discover();
+        library.current = source;
+        library.save_name = preset.name.clone();
+        let camera = Camera::default_for(&preset);
+        let dt = preset.physics.dt;
+        let mut m = Self {
+            warnings: setup_warnings(&preset),
+            notices: Vec::new(),
+            edit: preset,
+            sim,
+            generation: 0,
+            phase: Phase::Ready,
+            clock: FixedClock::new(dt, 1),
+            prev_pose: pose,
+            cur_pose: pose,
+            trail: Trail::new(),
+            heights: WaterHeights::new(),
+            samples: Vec::new(),
+            plots: PlotSeries::default(),
+            replay_log: ReplayLog::default(),
+            ticks: 0,
+            camera,
+            view_mode: options.view.unwrap_or(ViewMode::Behind),
+            exaggeration: options.exaggeration.unwrap_or(10.0),
+            view: ViewSettings::default(),
+            timing: FrameTiming::default(),
+            stone_tick: 0.0,
+            pending_changes: false,
+            invalid: None,
+            library,
+            status: None,
+            screenshot: None,
+            ticks_last_frame: 0,
+            view_rect: egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 800.0)),
+            frame_physics: 0.0,
+            frame_water: 0.0,
+            frames: 0,
+            stats: FrameStats::default(),
+            shown: Shown::default(),
+            camera_moved_at: None,
+            sharp_pending: false,
+            last_full_redraw: true,
+            just_rested: false,
+            resting: false,
+            outcome_time: None,
+            last_drop: None,
+            ghosts: VecDeque::new(),
+            throws: 0,
+            show_help: false,
+            show_about: false,
+            gesture: None,
+            out_dir: files::output_dir(options.output_dir.as_deref()),
+        };
+        if let Some(s) = options.render_scale {
+            m.view.render_scale = s;
+        }
+        m.start_run();
+        Ok(m)
+    }
+
+    /// The window's title: the loaded preset's name.
+    pub fn title(&self) -> String {
+        format!("stoneskip — {}", self.edit.name)
+    }
+
+    pub fn post(&mut self, message: Message) {
+        self.status = Some(Status {
+            message,
+            at: Instant::now(),
+        });
+    }
+
+    /// Resets the run's bookkeeping after `sim` was (re)built.
+    fn start_run(&mut self) {
+        self.generation += 1;
+        self.ticks = 0;
+        let dt = self.sim.preset().physics.dt;
+        self.clock.set_step(dt);
+        self.clock
+            .set_max_steps((MAX_SIM_PER_FRAME * self.clock.speed().max(1.0) / dt).ceil() as u64);
+        self.clock.reset();
+        self.clock.clear_skipped();
+        self.last_drop = None;
+        self.resting = false;
+        self.outcome_time = None;
+        let pose = self.sim.world_from_stone();
+        self.prev_pose = pose;
+        self.cur_pose = pose;
+        self.trail.start(pose.0);
+        self.samples.clear();
+        self.plots.clear();
+        let first = StepSample {
+            time: self.sim.time(),
+            state: *self.sim.state(),
+            angular_velocity: self.sim.angular_velocity(),
+            in_contact: self.sim.in_contact(),
+            wetted_area: 0.0,
+            force: DVec3::ZERO,
+        };
+        self.samples.push(first);
+        self.plots.push(&first);
+        self.heights.refresh(&self.sim, self.generation);
+        self.warnings = setup_warnings(self.sim.preset());
+    }
+
+    /// A new simulation from `preset`, or why not (the current one stays).
+    fn rebuild(&mut self, preset: &Preset) -> Result<(), String> {
+        let sim = Simulation::new(preset).map_err(|e| e.to_string())?;
+        self.sim = sim;
+        self.start_run();
+        Ok(())
+    }
+
+    /// Keeps the run that ends now as a ghost (if anything was thrown).
+    fn keep_ghost(&mut self) {
+        if self.phase == Phase::Ready || self.trail.points().len() < 3 {
+            return;
+        }
+        self.ghosts.push_back(Ghost {
+            number: self.throws,
+            points: thinned(self.trail.points(), 400),
+            skips: self.sim.skips(),
+            distance: self.sim.distance(),
+            outcome: self
+                .sim
+                .outcome()
+                .map_or_else(|| "stopped".to_owned(), outcome_words),
+        });
+        while self.ghosts.len() > MAX_GHOSTS {
+            self.ghosts.pop_front();
+        }
+    }
+
+    pub fn throw(&mut self) {
+        let preset = self.edit.clone();
+        self.keep_ghost();
+        match self.rebuild(&preset) {
+            Ok(()) => {
+                self.throws += 1;
+                self.replay_log.start_throw(preset);
+                self.pending_changes = false;
+                self.phase = Phase::Running;
+                self.clock.set_paused(false);
+                if self.view_mode == ViewMode::Behind {
+                    // The chase camera is the default while a throw runs.
+                    self.view_mode = ViewMode::Follow;
+                }
+            }
+            Err(e) => self.post(Message::error(format!("cannot throw: {e}"))),
+        }
+    }
+
+    pub fn reset(&mut self) {
+        let preset = self.edit.clone();
+        self.keep_ghost();
+        match self.rebuild(&preset) {
+            Ok(()) => {
+                self.pending_changes = false;
+                self.phase = Phase::Ready;
+                self.replay_log.stop();
+                if self.view_mode == ViewMode::Follow {
+                    self.view_mode = ViewMode::Behind;
+                }
+            }
+            Err(e) => self.post(Message::error(format!("cannot reset: {e}"))),
+        }
+    }
+
+    pub fn replay(&mut self) {
+        self.keep_ghost();
+        let Some(preset) = self.replay_log.start_replay() else {
+            return;
+        };
+        match self.rebuild(&preset) {
+            Ok(()) => {
+                self.phase = Phase::Running;
+                self.clock.set_paused(false);
+            }
+            Err(e) => self.post(Message::error(format!("cannot replay: {e}"))),
+        }
+    }
+
+    /// One tick, recording the trail, samples and plots, and the time it took.
+    pub fn tick_once(&mut self) {
+        self.replay_log.apply_due(self.ticks, &mut self.sim);
+        self.prev_pose = self.cur_pose;
+        let water_steps = self.sim.water().map(|w| w.steps());
+        let start = Instant::now();
+        let Self {
+            sim,
+            trail,
+            samples,
+            plots,
+            ..
+        } = self;
+        sim.tick_with(&mut |s| {
+            trail.push(s);
+            if samples.len() < MAX_SAMPLES {
+                samples.push(*s);
+            }
+            plots.push(s);
+        });
+        let took = start.elapsed().as_secs_f64();
+        if self.sim.water().map(|w| w.steps()) != water_steps {
+            let stone = self.stone_tick.min(took);
+            self.frame_physics += stone;
+            self.frame_water += took - stone;
+        } else {
+            self.stone_tick = if self.stone_tick == 0.0 {
+                took
+            } else {
+                0.95 * self.stone_tick + 0.05 * took
+            };
+            self.frame_physics += took;
+        }
+        self.ticks += 1;
+        self.cur_pose = self.sim.world_from_stone();
+    }
+
+    /// Runs the ticks due after `real_dt` seconds of real time, then applies the rest rule.
+    pub fn advance(&mut self, real_dt: f64) {
+        self.ticks_last_frame = 0;
+        if self.phase == Phase::Ready || self.resting {
+            return;
+        }
+        self.clock.set_paused(self.phase == Phase::Paused);
+        let due = self.clock.advance(real_dt);
+        if due.skipped > 0.0 {
+            self.last_drop = Some(Instant::now());
+        }
+        let start = Instant::now();
+        for i in 0..due.steps {
+            if start.elapsed() > PHYSICS_BUDGET {
+                self.clock.skip_steps(due.steps - i);
+                self.last_drop = Some(Instant::now());
+                break;
+            }
+            self.tick_once();
+            self.ticks_last_frame += 1;
+        }
+        self.check_rest();
+    }
+
+    /// Applies the rest rule (see [`rest_due`]).
+    pub fn check_rest(&mut self) {
+        if !self.sim.is_finished() {
+            return;
+        }
+        let t = self.sim.time();
+        let since = t - *self.outcome_time.get_or_insert(t);
+        let eta = self
+            .sim
+            .water()
+            .map(|w| w.max_abs_eta() - swell_amplitude(&self.edit));
+        if rest_due(true, since, eta) {
+            self.resting = true;
+            self.just_rested = true;
+            self.heights.refresh(&self.sim, self.generation);
+        }
+    }
+
+    /// The stone's pose to draw: between the last two ticks while running.
+    pub fn drawn_pose(&self) -> (DVec3, DQuat) {
+        if self.phase != Phase::Running || self.resting {
+            return self.cur_pose;
+        }
+        let alpha = self.clock.alpha();
+        let (p0, q0) = self.prev_pose;
+        let (p1, q1) = self.cur_pose;
+        (p0.lerp(p1, alpha), q0.slerp(q1, alpha))
+    }
+
+    pub fn style(&self) -> SceneStyle {
+        SceneStyle {
+            show_trail: self.view.show_trail,
+            show_markers: self.view.show_markers,
+            show_splashes: self.view.show_splashes,
+            ripple_gain: self.view.ripple_gain,
+        }
+    }
+
+    pub fn framing(&self) -> Framing {
+        framing_of(&self.sim, &self.trail, Some(self.drawn_pose()))
+    }
+
+    /// The scene to draw: the run, the guides of the view, the aim preview, the ghosts.
+    pub fn scene(&self) -> Scene<'_> {
+        let mut scene = build::scene_of(
+            &self.sim,
+            Some(self.drawn_pose()),
+            &self.trail,
+            &self.heights,
+            self.camera,
+            self.style(),
+        );
+        if self.view_mode == ViewMode::Side {
+            scene.lines = side_guides(&self.framing(), self.sim.contacts(), &self.camera);
+        }
+        if self.phase == Phase::Ready && self.invalid.is_none() {
+            scene.lines.extend(aim_preview(self.sim.preset()));
+        }
+        let ghosts: Vec<Vec<Vec3>> = self.ghosts.iter().map(|g| g.points.clone()).collect();
+        scene.lines.extend(ghost_lines(&ghosts));
+        scene
+    }
+
+    /// Moves the camera towards its view's (smoothly, `real_dt` s since the last frame).
+    pub fn update_camera(&mut self, real_dt: f64) {
+        let aspect = self.view_aspect();
+        let Some(target) = camera_for(self.view_mode, &self.framing(), aspect, self.exaggeration)
+        else {
+            return;
+        };
+        let rate = if self.view_mode == ViewMode::Follow {
+            8.0
+        } else {
+            5.0
+        };
+        let k = if self.frames == 0 || real_dt <= 0.0 {
+            1.0
+        } else {
+            1.0 - (-(real_dt as f32) * rate).exp()
+        };
+        self.camera.blend(&target, k);
+    }
+
+    /// The camera is still travelling to its view.
+    fn camera_settling(&self) -> bool {
+        let Some(target) = camera_for(
+            self.view_mode,
+            &self.framing(),
+            self.view_aspect(),
+            self.exaggeration,
+        ) else {
+            return false;
+        };
+        let c = &self.camera;
+        (c.target - target.target).length() > 1e-3 * c.distance.max(0.1)
+            || (c.distance - target.distance).abs() > 1e-3 * c.distance.max(0.1)
+            || (c.yaw - target.yaw).abs() > 1e-3
+            || (c.pitch - target.pitch).abs() > 1e-3
+    }
+
+    /// The user is moving the camera (within the last quarter second).
+    pub fn camera_moving(&self) -> bool {
+        self.camera_moved_at
+            .is_some_and(|t| t.elapsed() < Duration::from_millis(250))
+    }
+
+    /// Frames are being drawn one after another: the run animates or the camera moves.
+    pub fn animating(&self) -> bool {
+        (self.phase == Phase::Running && !self.resting)
+            || self.camera_moving()
+            || self.camera_settling()
+            || self.gesture.is_some()
+    }
+
+    pub fn view_aspect(&self) -> f32 {
+        self.view_rect.width() / self.view_rect.height().max(1.0)
+    }
+
+    pub fn apply_view(&mut self, req: ViewRequest) {
+        self.camera_moved_at = Some(Instant::now());
+        self.view_mode = match req {
+            ViewRequest::Default => ViewMode::Behind,
+            ViewRequest::Side => ViewMode::Side,
+            ViewRequest::Follow => ViewMode::Follow,
+            ViewRequest::Top => ViewMode::Top,
+            ViewRequest::FrameAll => {
+                let f = self.framing();
+                self.camera
+                    .frame(f.bounds.0, f.bounds.1, self.view_aspect());
+                ViewMode::Free
+            }
+        };
+    }
+
+    pub fn load_preset(&mut self, path: &Path) {
+        let message = match preset::load(path) {
+            Ok(p) => match Simulation::new(&p) {
+                Ok(_) => {
+                    self.edit = p;
+                    self.library.current = Some(path.to_owned());
+                    self.library.save_name = self.edit.name.clone();
+                    self.reset();
+                    self.replay_log.forget();
+                    self.ghosts.clear();
+                    self.view_mode = ViewMode::Behind;
+                    self.camera = Camera::default_for(&self.edit);
+                    self.invalid = None;
+                    Message::info(format!("loaded {}", path.display()))
+                }
+                Err(e) => Message::error(format!("{}: {e}", path.display())),
+            },
+            // The error names file:line:col; the current scene stays as it is.
+            Err(e) => Message::error(format!("preset not loaded: {e}")),
+        };
+        self.library.message = Some(message.clone());
+        self.post(message);
+    }
+
+    pub fn save_preset(&mut self, name: &str) {
+        let Some(path) = self.library.user_path(name) else {
+            self.library.message =
+                Some(Message::error("give the preset a name (letters or digits)"));
+            return;
+        };
+        let mut p = self.edit.clone();
+        p.name = name.trim().to_owned();
+        let result = path
+            .parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .map_err(|e| format!("{}: {e}", path.display()))
+            .and_then(|()| preset::save(&path, &p).map_err(|e| e.to_string()));
+        match result {
+            Ok(()) => {
+                self.edit.name = p.name;
+                self.library.current = Some(path.clone());
+                self.library.refresh();
+                self.library.message = Some(Message::info(format!("saved {}", path.display())));
+            }
+            Err(e) => self.library.message = Some(Message::error(e)),
+        }
+    }
+
+    pub fn export_csv(&mut self) {
+        let path = files::output_path(&self.out_dir, &self.sim.preset().name, "csv");
+        let result = files::write_csv(&path, &self.sim, &self.samples);
+        let message = match result {
+            Ok(()) => {
+                let note = if self.samples.len() >= MAX_SAMPLES {
+                    " (truncated: the run outgrew the sample buffer)"
+                } else {
+                    ""
+                };
+                Message::info(format!("trajectory written to {}{note}", path.display()))
+            }
+            Err(e) => Message::error(format!("CSV export failed: {e:#}")),
+        };
+        self.post(message);
+    }
+
+    pub fn handle(&mut self, action: Action) {
+        match action {
+            Action::Throw => self.throw(),
+            Action::TogglePause => {
+                self.phase = match self.phase {
+                    Phase::Running => Phase::Paused,
+                    Phase::Paused => Phase::Running,
+                    Phase::Ready => Phase::Ready,
+                };
+            }
+            Action::Step => self.step(),
+            Action::Reset => self.reset(),
+            Action::Replay => self.replay(),
+            Action::LoadPreset(p) => self.load_preset(&p),
+            Action::SavePresetAs(name) => self.save_preset(&name),
+            Action::RefreshPresets => self.library.refresh(),
+            Action::ExportCsv => self.export_csv(),
+            Action::Screenshot { panels } => {
+                self.screenshot = Some(if panels { Shot::Window } else { Shot::ViewOnly })
+            }
+            Action::View(v) => self.apply_view(v),
+            Action::Exaggerate(k) => self.exaggeration = k,
+            Action::DismissMessage => {
+                self.status = None;
+                self.library.message = None;
+            }
+            Action::SceneEdited => self.scene_edited(),
+            Action::PhysicsEdited => self.physics_edited(),
+        }
+    }
+
+    fn step(&mut self) {
+        if self.phase == Phase::Ready {
+            if self.pending_changes || self.invalid.is_some() {
+                self.reset();
+            }
+            self.replay_log.start_throw(self.sim.preset().clone());
+        }
+        self.phase = Phase::Paused;
+        self.resting = false;
+        self.clock.set_paused(true);
+        // The clock runs exactly one tick at the next advance.
+        self.clock.request_step();
+    }
+
+    fn scene_edited(&mut self) {
+        match self.edit.validate() {
+            Err(e) => self.invalid = Some(e.to_string()),
+            Ok(()) => {
+                self.invalid = None;
+                self.warnings = setup_warnings(&self.edit);
+                if self.phase == Phase::Ready {
+                    // Nothing thrown yet: show the change at once.
+                    let preset = self.edit.clone();
+                    if let Err(e) = self.rebuild(&preset) {
+                        self.invalid = Some(e);
+                    }
+                } else {
+                    self.pending_changes = true;
+                }
+            }
+        }
+    }
+
+    fn physics_edited(&mut self) {
+        match self.edit.physics.validate() {
+            Err(e) => self.invalid = Some(e.to_string()),
+            Ok(()) => {
+                self.invalid = None;
+                self.warnings = setup_warnings(&self.edit);
+                let physics = self.edit.physics;
+                match self.sim.set_physics(physics) {
+                    Ok(()) => {
+                        self.clock.set_step(physics.dt);
+                        if self.phase != Phase::Ready {
+                            // Replay takes over the user's change from here on.
+                            self.replay_log.record(self.ticks, physics);
+                            self.resting = false;
+                        }
+                    }
+                    Err(e) => self.invalid = Some(e.to_string()),
+                }
+            }
+        }
+    }
+
+    /// Takes a new snapshot of what the panels show (every frame when still, at
+    /// [`READOUT_HZ`] while animating).
+    pub fn refresh_shown(&mut self) {
+        let due = !self.animating()
+            || self.shown.at.map_or(true, |t| {
+                t.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
+                    && self.frames >= self.shown.frame + READOUT_MIN_FRAMES
+            });
+        if !due {
+            return;
+        }
+        // After the outcome only the water moves: keep the stone's run in the plots.
+        let end = if self.sim.is_finished() {
+            self.sim.summary().final_time
+        } else {
+            self.sim.time()
+        };
+        self.shown = Shown {
+            readouts: self.readouts(),
+            contacts: self.sim.contacts().to_vec(),
+            plots: self.plots.decimated(400, end),
+            plot_end: end,
+            timing: self.timing,
+            outcome: self.sim.outcome().map(outcome_words),
+            dropping_now: !self.resting
+                && self
+                    .last_drop
+                    .is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
+            dropped_total: self.clock.skipped_total(),
+            at: Some(Instant::now()),
+            frame: self.frames,
+        };
+    }
+
+    fn readouts(&self) -> Readouts {
+        let s = self.sim.state();
+        let f = self.sim.last_force();
+        Readouts {
+            time: self.sim.time(),
+            skips: self.sim.skips(),
+            distance: self.sim.distance(),
+            speed: s.velocity.length(),
+            height: s.position.z,
+            in_contact: self.sim.in_contact(),
+            wetted_area: if self.sim.in_contact() {
+                f.wetted_area
+            } else {
+                0.0
+            },
+            outcome: self.sim.outcome().map(outcome_words),
+            glide: self.sim.contacts().last().and_then(|c| {
+                let radius = self.sim.stone().shape.half_extent();
+                (contact_kind(c, radius) == ContactKind::Glide).then(|| slide_distance(c))
+            }),
+            ticks_last_frame: self.ticks_last_frame,
+            dt: self.sim.preset().physics.dt,
+        }
+    }
+
+    /// The stone's position on screen (points), for the throw gesture.
+    pub fn stone_on_screen(&self) -> Option<egui::Pos2> {
+        let r = self.view_rect;
+        let p = self.camera.project(
+            self.drawn_pose().0.as_vec3(),
+            r.width().max(1.0) as u32,
+            r.height().max(1.0) as u32,
+        )?;
+        Some(r.min + egui::vec2(p.x, p.y))
+    }
+}
+
+/// The swell's amplitude (m): the part of max |η| that is the lake's own waves, not rings.
+fn swell_amplitude(p: &Preset) -> f64 {
+    p.water.swell.map_or(0.0, |s| s.amplitude.abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rests_only_after_the_outcome_once_the_rings_are_invisible() {
+        assert!(!rest_due(false, 100.0, Some(0.0)));
+        assert!(!rest_due(true, 0.5, Some(10.0 * ETA_VISIBLE)));
+        assert!(rest_due(true, 0.5, Some(0.5 * ETA_VISIBLE)));
+        assert!(rest_due(true, 0.0, None));
+        // A swell never calms: rest a while after the outcome anyway.
+        assert!(rest_due(true, REST_AFTER, Some(0.02)));
+    }
+
+    #[test]
+    fn the_app_stops_stepping_once_it_rests() {
+        let mut p = Preset::default();
+        p.water.size = [6.0, 2.0];
+        p.physics.max_time = 3.0;
+        let mut m = Model::new(p, None, Options::default()).unwrap();
+        m.throw();
+        let mut frames = 0;
+        while !m.resting && frames < 20_000 {
+            m.advance(1.0 / 60.0);
+            frames += 1;
+        }
+        assert!(m.resting, "never rested");
+        assert!(m.sim.is_finished());
+        let eta = m.sim.water().map_or(0.0, |w| w.max_abs_eta());
+        let since = m.sim.time() - m.sim.summary().final_time;
+        assert!(
+            eta < ETA_VISIBLE || since >= REST_AFTER - 1e-9,
+            "{eta} {since}"
+        );
+        // Resting: time stands still and nothing animates.
+        let t = m.sim.time();
+        for _ in 0..10 {
+            m.advance(1.0 / 60.0);
+        }
+        assert_eq!(m.sim.time(), t);
+        assert_eq!(m.ticks_last_frame, 0);
+        assert!(!m.animating() || m.camera_settling());
+    }
+
+    #[test]
+    fn step_runs_one_tick_and_stays_paused() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        let mut m = Model::new(p, None, Options::default()).unwrap();
+        m.handle(Action::Step);
+        m.advance(0.5);
+        assert_eq!(m.ticks, 1);
+        assert_eq!(m.phase, Phase::Paused);
+        m.advance(0.5);
+        assert_eq!(m.ticks, 1);
+        m.handle(Action::Step);
+        m.advance(0.0);
+        assert_eq!(m.ticks, 2);
+        // Resume: real time runs ticks again (0.1 s at the preset's dt).
+        m.handle(Action::TogglePause);
+        m.advance(0.1);
+        let due = (0.1 / m.sim.preset().physics.dt).round() as u64;
+        assert_eq!(m.ticks, 2 + due);
+    }
+
+    #[test]
+    fn outcomes_read_as_words() {
+        assert_eq!(outcome_words(Outcome::Sank), "sank");
+        assert_eq!(outcome_words(Outcome::LeftDomain), "left the lake");
+        assert_eq!(
+            outcome_words(Outcome::Timeout),
+            "still going at the time limit"
+        );
+    }
+
+    #[test]
+    fn warns_of_implausible_setups() {
+        let ok = Preset::default();
+        assert!(setup_warnings(&ok).is_empty(), "{:?}", setup_warnings(&ok));
+        let mut fast = ok.clone();
+        fast.physics.integrator = Integrator::Paper;
+        fast.physics.dt = 0.005;
+        assert!(setup_warnings(&fast)[0].contains("stable step"));
+        let mut light = ok.clone();
+        light.stone.mass = 1e-3;
+        assert!(setup_warnings(&light)[0].contains("lighter than water"));
+        let mut wavy = ok.clone();
+        wavy.water.wavy_contact = true;
+        wavy.water.cell = 0.05;
+        assert!(setup_warnings(&wavy)[0].contains("wavy contact"));
+    }
+
+    #[test]
+    fn a_drag_up_the_screen_throws_straight_ahead() {
+        let base = Preset::default().launch;
+        // A third of a 600 px view, straight up: 10 m/s along the camera's heading (0).
+        let l = gesture_launch(&base, Vec2::new(0.0, -200.0), 600.0, 0.0);
+        let v = DVec3::from_array(l.velocity);
+        assert!((v.length() - 10.0).abs() < 1e-4, "{v:?}");
+        assert!(v.y.abs() < 1e-9 && v.x > 0.0);
+        // The elevation of the panel's velocity is kept.
+        let v0 = DVec3::from_array(base.velocity);
+        assert!((v.z / v.length() - v0.z / v0.length()).abs() < 1e-9);
+        // A drag up and to the right turns the throw right (negative heading, z up).
+        let r = gesture_launch(&base, Vec2::new(100.0, -100.0), 600.0, 0.0);
+        assert!(
+            (r.attitude.heading_deg + 45.0).abs() < 1e-4,
+            "{}",
+            r.attitude.heading_deg
+        );
+        assert!(r.velocity[1] < 0.0);
+        // A click is not a throw.
+        assert_eq!(gesture_launch(&base, Vec2::new(1.0, 1.0), 600.0, 0.0), base);
+    }
+}

@@ -1,0 +1,134 @@
+//! The app's environment hooks, read once at start into [`Options`] (tests, CI and measurements
+//! drive the app through them; nothing else reads the environment).
+//!
+//! | variable | effect |
+//! | --- | --- |
+//! | `STONESKIP_AUTOTHROW=1` | throws the loaded preset at start |
+//! | `STONESKIP_FPS_REPORT=1` | with `--frames N`, prints frame-time totals on exit |
+//! | `STONESKIP_NO_VSYNC=1` | presents without waiting for vertical sync |
+//! | `STONESKIP_WINDOW_SIZE=WxH` | the window's first size in points (default 1280x800) |
+//! | `STONESKIP_MSAA=1` or `4` | overrides the 3D view's multisampling |
+//! | `STONESKIP_RENDER_SCALE=S` | resolution of the 3D view while animating (0.25–1) |
+//! | `STONESKIP_VIEW=behind\|side\|follow\|top` | the first camera |
+//! | `STONESKIP_EXAGGERATE=N` | the side view's vertical exaggeration (1, 5, 10 or 20) |
+//! | `STONESKIP_OUTPUT_DIR=DIR` | where exports and screenshots go (default: the user's folders) |
+//! | `STONESKIP_REQUIRE_DISPLAY=1` | (tests) no display is an error, not a skip |
+
+use std::path::PathBuf;
+
+use crate::render::camera::{ViewMode, EXAGGERATIONS};
+
+/// Everything the environment can set, parsed once.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    pub autothrow: bool,
+    pub fps_report: bool,
+    pub no_vsync: bool,
+    /// Logical window size (points).
+    pub window_size: (f64, f64),
+    /// `Some(1)` or `Some(4)` when forced.
+    pub msaa: Option<u32>,
+    pub render_scale: Option<f32>,
+    pub view: Option<ViewMode>,
+    pub exaggeration: Option<f32>,
+    pub output_dir: Option<PathBuf>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            autothrow: false,
+            fps_report: false,
+            no_vsync: false,
+            window_size: (1280.0, 800.0),
+            msaa: None,
+            render_scale: None,
+            view: None,
+            exaggeration: None,
+            output_dir: None,
+        }
+    }
+}
+
+impl Options {
+    /// Reads the process environment.
+    pub fn from_env() -> Self {
+        Self::from_lookup(|k| std::env::var(k).ok())
+    }
+
+    /// Parses with `get` as the environment (tests pass a map). Unparsable values are ignored.
+    pub fn from_lookup(get: impl Fn(&str) -> Option<String>) -> Self {
+        let flag = |k: &str| get(k).is_some_and(|v| v.trim() == "1");
+        let d = Self::default();
+        Self {
+            autothrow: flag("STONESKIP_AUTOTHROW"),
+            fps_report: flag("STONESKIP_FPS_REPORT"),
+            no_vsync: flag("STONESKIP_NO_VSYNC"),
+            window_size: get("STONESKIP_WINDOW_SIZE")
+                .and_then(|v| parse_size(&v))
+                .unwrap_or(d.window_size),
+            msaa: get("STONESKIP_MSAA").and_then(|v| match v.trim() {
+                "1" => Some(1),
+                "4" => Some(4),
+                _ => None,
+            }),
+            render_scale: get("STONESKIP_RENDER_SCALE")
+                .and_then(|v| v.trim().parse::<f32>().ok())
+                .filter(|s| s.is_finite() && (0.25..=1.0).contains(s)),
+            view: get("STONESKIP_VIEW").and_then(|v| ViewMode::parse(&v)),
+            exaggeration: get("STONESKIP_EXAGGERATE")
+                .and_then(|v| v.trim().parse::<f32>().ok())
+                .filter(|e| EXAGGERATIONS.contains(e)),
+            output_dir: get("STONESKIP_OUTPUT_DIR")
+                .filter(|v| !v.trim().is_empty())
+                .map(PathBuf::from),
+        }
+    }
+}
+
+/// "1280x720" → (1280, 720), within 320–8192 × 240–8192.
+fn parse_size(v: &str) -> Option<(f64, f64)> {
+    let (w, h) = v.split_once('x')?;
+    let (w, h) = (w.trim().parse::<f64>().ok()?, h.trim().parse::<f64>().ok()?);
+    ((320.0..=8192.0).contains(&w) && (240.0..=8192.0).contains(&h)).then_some((w, h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with(pairs: &[(&str, &str)]) -> Options {
+        let map: std::collections::HashMap<String, String> = pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        Options::from_lookup(|k| map.get(k).cloned())
+    }
+
+    #[test]
+    fn parses_each_hook_once_and_ignores_nonsense() {
+        assert_eq!(with(&[]), Options::default());
+        let o = with(&[
+            ("STONESKIP_AUTOTHROW", "1"),
+            ("STONESKIP_WINDOW_SIZE", "1280x720"),
+            ("STONESKIP_MSAA", "4"),
+            ("STONESKIP_VIEW", "side"),
+            ("STONESKIP_EXAGGERATE", "10"),
+            ("STONESKIP_RENDER_SCALE", "1"),
+        ]);
+        assert!(o.autothrow && !o.fps_report);
+        assert_eq!(o.window_size, (1280.0, 720.0));
+        assert_eq!(o.msaa, Some(4));
+        assert_eq!(o.view, Some(ViewMode::Side));
+        assert_eq!(o.exaggeration, Some(10.0));
+        assert_eq!(o.render_scale, Some(1.0));
+        let bad = with(&[
+            ("STONESKIP_AUTOTHROW", "yes"),
+            ("STONESKIP_WINDOW_SIZE", "99999x1"),
+            ("STONESKIP_MSAA", "8"),
+            ("STONESKIP_EXAGGERATE", "nan"),
+            ("STONESKIP_RENDER_SCALE", "nan"),
+        ]);
+        assert_eq!(bad, Options::default());
+    }
+}

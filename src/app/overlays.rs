@@ -1,0 +1,213 @@
+//! What the app draws over the 3D view: the score, the camera's name and the side view's
+//! exaggeration, warnings for implausible setups, the status message (timed, dismissable, over the
+//! view so it never pushes the layout), and the help and about windows.
+
+use egui::{Align2, Color32, FontId, RichText};
+
+use super::model::Model;
+use crate::render::camera::ViewMode;
+use crate::ui::{self, Action, Phase};
+
+fn shadowed_text(
+    painter: &egui::Painter,
+    pos: egui::Pos2,
+    align: Align2,
+    text: &str,
+    size: f32,
+    color: Color32,
+) {
+    painter.text(
+        pos + egui::vec2(1.5, 1.5),
+        align,
+        text,
+        FontId::proportional(size),
+        Color32::from_black_alpha(150),
+    );
+    painter.text(pos, align, text, FontId::proportional(size), color);
+}
+
+impl Model {
+    /// Score, view label, hint, warnings and the status message, inside the 3D view.
+    pub(super) fn view_overlay_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+        let rect = self.view_rect;
+        let painter = ui.painter_at(rect);
+        let r = &self.shown.readouts;
+        let mut score = format!(
+            "{} skip{}   {:.2} m",
+            r.skips,
+            if r.skips == 1 { "" } else { "s" },
+            r.distance
+        );
+        if let Some(o) = &self.shown.outcome {
+            score.push_str(&format!("   {o}"));
+        }
+        let pos = rect.left_top() + egui::vec2(14.0, 10.0);
+        shadowed_text(
+            &painter,
+            pos,
+            Align2::LEFT_TOP,
+            &score,
+            22.0,
+            Color32::WHITE,
+        );
+        let label = match self.view_mode {
+            ViewMode::Side => format!("side view, heights ×{:.0}", self.exaggeration),
+            m => format!("{} view", m.name()),
+        };
+        let big = if self.view_mode == ViewMode::Side {
+            20.0
+        } else {
+            14.0
+        };
+        shadowed_text(
+            &painter,
+            rect.right_top() + egui::vec2(-14.0, 10.0),
+            Align2::RIGHT_TOP,
+            &label,
+            big,
+            Color32::from_rgb(255, 230, 150),
+        );
+        if self.view_mode == ViewMode::Side {
+            self.side_scale_ui(&painter);
+        }
+        let hint = if self.phase == Phase::Ready {
+            "Space or drag from the stone: throw   ·   1–4: cameras   ·   F1 or ?: help"
+        } else {
+            "drag: orbit   right-drag: pan   wheel: zoom   ·   1–4: cameras   ·   F1 or ?: help"
+        };
+        painter.text(
+            rect.left_bottom() + egui::vec2(14.0, -10.0),
+            Align2::LEFT_BOTTOM,
+            hint,
+            FontId::proportional(13.0),
+            Color32::from_white_alpha(190),
+        );
+        let mut y = rect.top() + 42.0;
+        let lines = self
+            .notices
+            .iter()
+            .map(|(t, error)| {
+                let c = if *error {
+                    Color32::from_rgb(255, 120, 100)
+                } else {
+                    Color32::from_rgb(150, 200, 255)
+                };
+                (t.clone(), c)
+            })
+            .chain(
+                self.warnings
+                    .iter()
+                    .map(|w| (format!("! {w}"), Color32::from_rgb(255, 200, 90))),
+            );
+        for (text, color) in lines {
+            let galley = painter.layout(
+                text,
+                FontId::proportional(13.0),
+                color,
+                (rect.width() - 28.0).max(100.0),
+            );
+            let h = galley.size().y;
+            painter.galley(egui::pos2(rect.left() + 14.0, y), galley, Color32::WHITE);
+            y += h + 4.0;
+        }
+        self.status_ui(ui, actions);
+    }
+
+    /// The side view's distance marks along the waterline (every 1, 2, 5 or 10 m from the launch)
+    /// and the legend of its ticks.
+    fn side_scale_ui(&self, painter: &egui::Painter) {
+        let rect = self.view_rect;
+        let f = self.framing();
+        let along = glam::Vec3::new(f.heading.cos(), f.heading.sin(), 0.0);
+        let to_screen = |d: f32| {
+            let p = f.launch.with_z(0.0) + along * d;
+            let (w, h) = (rect.width().max(1.0) as u32, rect.height().max(1.0) as u32);
+            self.camera
+                .project(p, w, h)
+                .map(|q| rect.min + egui::vec2(q.x, q.y))
+        };
+        let (Some(a), Some(b)) = (to_screen(0.0), to_screen(1.0)) else {
+            return;
+        };
+        let px_per_m = (b.x - a.x).abs().max(1e-3);
+        let step = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
+            .into_iter()
+            .find(|s| s * px_per_m >= 70.0)
+            .unwrap_or(100.0);
+        let color = Color32::from_rgb(20, 60, 110);
+        for k in 0..200 {
+            let d = k as f32 * step;
+            let Some(p) = to_screen(d) else { break };
+            if p.x > rect.right() - 10.0 || p.x < rect.left() {
+                if p.x > rect.right() {
+                    break;
+                }
+                continue;
+            }
+            painter.line_segment([p, p + egui::vec2(0.0, 6.0)], egui::Stroke::new(1.5, color));
+            painter.text(
+                p + egui::vec2(0.0, 8.0),
+                Align2::CENTER_TOP,
+                format!("{d:.0} m"),
+                FontId::proportional(12.0),
+                color,
+            );
+        }
+        painter.text(
+            rect.right_top() + egui::vec2(-14.0, 36.0),
+            Align2::RIGHT_TOP,
+            "ticks: green a skip, red the contact that stayed in the water",
+            FontId::proportional(12.5),
+            Color32::from_rgb(40, 60, 90),
+        );
+    }
+
+    /// The status message: a toast at the bottom of the view with a close button.
+    fn status_ui(&self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+        let Some(status) = &self.status else {
+            return;
+        };
+        // Wake up when it is due to fade, even at rest.
+        ui.ctx()
+            .request_repaint_after(std::time::Duration::from_secs(1));
+        let rect = self.view_rect;
+        egui::Area::new(egui::Id::unique("status_toast"))
+            .order(egui::Order::Foreground)
+            .fixed_pos(rect.left_bottom() + egui::vec2(14.0, -64.0))
+            .show(ui.ctx(), |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.set_max_width((rect.width() - 60.0).max(200.0));
+                    ui.horizontal(|ui| {
+                        ui::message_ui(ui, &status.message);
+                        if ui
+                            .small_button("×")
+                            .on_hover_text("Dismiss (Esc)")
+                            .clicked()
+                        {
+                            actions.push(Action::DismissMessage);
+                        }
+                    });
+                });
+            });
+    }
+
+    /// The help and about windows.
+    pub(super) fn windows_ui(&mut self, ctx: &egui::Context) {
+        let mut open = self.show_help;
+        egui::Window::new(RichText::new("Help: keys and gestures").strong())
+            .open(&mut open)
+            .collapsible(false)
+            .resizable(false)
+            .anchor(Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
+            .show(ctx, ui::help_ui);
+        self.show_help = open;
+        let mut open = self.show_about;
+        egui::Window::new(RichText::new("About the model").strong())
+            .open(&mut open)
+            .collapsible(false)
+            .default_width(560.0)
+            .anchor(Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
+            .show(ctx, ui::about_ui);
+        self.show_about = open;
+    }
+}

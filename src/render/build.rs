@@ -1,0 +1,394 @@
+//! Building a [`Scene`] from a [`Simulation`]: the stone's pose, the water heights copied for the
+//! GPU, the thinned trail, the contact markers and splash cues, and the guide lines (the side view's
+//! waterline and skip ticks, the aim preview, ghosts of earlier throws). The app and `stoneskip
+//! render` build it the same way. Building never steps the physics; the caller's ticks do.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use glam::{DQuat, DVec3, Vec3};
+
+use super::camera::{throw_heading, Camera, Framing};
+use super::scene::{
+    Line, Marker, Scene, SceneStyle, Splash, StoneView, WaterView, SPLASH_DURATION,
+};
+use crate::sim::params::Preset;
+use crate::sim::{ContactEvent, Simulation, StepSample};
+
+/// The scene of `sim` now. `pose` overrides the stone's pose (the app's interpolation between
+/// two ticks); `heights` must have been refreshed from `sim`.
+pub fn scene_of<'a>(
+    sim: &'a Simulation,
+    pose: Option<(DVec3, DQuat)>,
+    trail: &'a Trail,
+    heights: &'a WaterHeights,
+    camera: Camera,
+    style: SceneStyle,
+) -> Scene<'a> {
+    let (position, orientation) = pose.unwrap_or_else(|| sim.world_from_stone());
+    let stone = Some(StoneView {
+        mesh: &sim.stone().mesh,
+        position,
+        orientation,
+        radius: sim.stone().shape.half_extent(),
+    });
+    let water = sim.water().and_then(|w| {
+        (heights.data.len() == w.nx() * w.ny() && !heights.data.is_empty()).then(|| WaterView {
+            heights: &heights.data,
+            nx: w.nx(),
+            ny: w.ny(),
+            cell: w.cell(),
+            origin: w.origin(),
+            revision: heights.revision,
+        })
+    });
+    let t = sim.time();
+    Scene {
+        camera,
+        time: t,
+        stone,
+        water,
+        trail: trail.points(),
+        markers: markers_of(sim.contacts()),
+        splashes: splashes_of(sim.contacts(), t),
+        lines: Vec::new(),
+        style,
+    }
+}
+
+/// One marker per contact episode.
+pub fn markers_of(contacts: &[ContactEvent]) -> Vec<Marker> {
+    contacts
+        .iter()
+        .map(|c| Marker {
+            x: c.x,
+            y: c.y,
+            skip: c.skip,
+            open: c.open,
+        })
+        .collect()
+}
+
+/// Splash cues of the contacts that began less than [`SPLASH_DURATION`] before `time`.
+pub fn splashes_of(contacts: &[ContactEvent], time: f64) -> Vec<Splash> {
+    contacts
+        .iter()
+        .filter(|c| time >= c.t_start && time - c.t_start < SPLASH_DURATION)
+        .map(|c| Splash {
+            x: c.x,
+            y: c.y,
+            age: time - c.t_start,
+            speed: DVec3::from_array(c.v_in).length(),
+        })
+        .collect()
+}
+
+/// The trajectory as drawn: centre-of-mass positions, thinned so a point is kept every
+/// [`Trail::SPACING`] metres, at every change of contact, and at the newest sample.
+#[derive(Debug, Clone, Default)]
+pub struct Trail {
+    points: Vec<Vec3>,
+    last_kept: Option<Vec3>,
+    last_contact: bool,
+    /// The last point is the newest position, not yet kept.
+    moving_end: bool,
+}
+
+impl Trail {
+    /// Distance between kept points (m).
+    pub const SPACING: f32 = 0.01;
+    /// Most points kept; past it the spacing doubles (a very long run stays cheap to draw).
+    pub const MAX_POINTS: usize = 20_000;
+
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Starts the trail at the launch position.
+    pub fn start(&mut self, position: DVec3) {
+        self.clear();
+        let p = position.as_vec3();
+        self.points.push(p);
+        self.last_kept = Some(p);
+    }
+
+    /// Adds an accepted step of the simulation.
+    pub fn push(&mut self, sample: &StepSample) {
+        let p = sample.state.position.as_vec3();
+        if !p.is_finite() {
+            return;
+        }
+        let spacing = Self::SPACING * (1 + self.points.len() / Self::MAX_POINTS) as f32;
+        let far = self.last_kept.map_or(true, |q| q.distance(p) >= spacing);
+        let keep = far || sample.in_contact != self.last_contact;
+        match (self.moving_end, self.points.last_mut()) {
+            // The moving end (newest position) becomes a kept point, or moves on.
+            (true, Some(last)) => *last = p,
+            _ => self.points.push(p),
+        }
+        self.moving_end = !keep;
+        if keep {
+            self.last_kept = Some(p);
+        }
+        self.last_contact = sample.in_contact;
+    }
+
+    pub fn points(&self) -> &[Vec3] {
+        &self.points
+    }
+}
+
+static NEXT_REVISION: AtomicU64 = AtomicU64::new(1);
+
+/// The water heights copied out of the grid for the renderer; refreshed only when the water has
+/// stepped (the copy is the CPU's whole per-frame water work).
+#[derive(Debug, Clone, Default)]
+pub struct WaterHeights {
+    data: Vec<f32>,
+    revision: u64,
+    seen: Option<(u64, u64)>,
+}
+
+impl WaterHeights {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Copies η from `sim` if the grid stepped since the last call. `generation` must change when
+    /// the simulation is rebuilt (a new grid). Returns whether a copy happened.
+    pub fn refresh(&mut self, sim: &Simulation, generation: u64) -> bool {
+        let Some(w) = sim.water() else {
+            self.data.clear();
+            self.seen = None;
+            return false;
+        };
+        let key = (generation, w.steps());
+        if self.seen == Some(key) {
+            return false;
+        }
+        w.eta_f32(&mut self.data);
+        self.seen = Some(key);
+        // Unique across every WaterHeights of the process, so a renderer never mistakes one for another.
+        self.revision = NEXT_REVISION.fetch_add(1, Ordering::Relaxed);
+        true
+    }
+
+    pub fn data(&self) -> &[f32] {
+        &self.data
+    }
+}
+
+/// What the views frame for `sim` with `trail` (see [`Framing`]).
+pub fn framing_of(sim: &Simulation, trail: &Trail, pose: Option<(DVec3, DQuat)>) -> Framing {
+    let stone = pose.map_or(sim.state().position, |p| p.0).as_vec3();
+    let launch = sim.launch_position().as_vec3();
+    let mut lo = launch.min(stone).with_z(0.0);
+    let mut hi = launch.max(stone);
+    for p in trail.points() {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    for c in sim.contacts() {
+        let p = Vec3::new(c.x as f32, c.y as f32, 0.0);
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    Framing {
+        launch,
+        heading: throw_heading(sim.preset()),
+        stone,
+        velocity: sim.state().velocity.as_vec3(),
+        radius: sim.stone().shape.half_extent() as f32,
+        bounds: (lo.with_z(lo.z.min(0.0)), hi.with_z(hi.z.max(0.0))),
+    }
+}
+
+/// Colour of the side view's waterline.
+pub const WATERLINE_COLOR: [f32; 4] = [0.05, 0.25, 0.55, 0.9];
+/// Colours of the skip ticks: a skip, a contact that did not end in the air, one still going on.
+pub const SKIP_COLOR: [f32; 4] = [0.45, 1.0, 0.3, 1.0];
+pub const END_COLOR: [f32; 4] = [1.0, 0.3, 0.2, 1.0];
+pub const OPEN_COLOR: [f32; 4] = [1.0, 1.0, 1.0, 1.0];
+
+/// The side view's guides: the waterline under the whole trajectory and a tick rising from each
+/// contact (green: a skip; red: a contact that did not end in the air; white: still going on).
+pub fn side_guides(framing: &Framing, contacts: &[ContactEvent], camera: &Camera) -> Vec<Line> {
+    let along = Vec3::new(framing.heading.cos(), framing.heading.sin(), 0.0);
+    let (lo, hi) = framing.bounds;
+    let from = (lo - framing.launch).dot(along).min(0.0) - 2.0;
+    let to = (hi - framing.launch).dot(along).max(3.0) + 2.0;
+    let base = framing.launch.with_z(0.0);
+    let mut lines = vec![Line {
+        a: base + along * from,
+        b: base + along * to,
+        width_px: 1.5,
+        color: WATERLINE_COLOR,
+    }];
+    // Ticks 5 % of the view's height, whatever the exaggeration.
+    let view_h = 2.0 * camera.distance * (0.5 * camera.fov_y).tan();
+    let tick = 0.05 * view_h / camera.exaggeration.max(1e-3);
+    for c in contacts {
+        let color = if c.open {
+            OPEN_COLOR
+        } else if c.skip {
+            SKIP_COLOR
+        } else {
+            END_COLOR
+        };
+        let p = Vec3::new(c.x as f32, c.y as f32, 0.0);
+        lines.push(Line {
+            a: p,
+            b: p + Vec3::Z * tick,
+            width_px: 3.0,
+            color,
+        });
+    }
+    lines
+}
+
+/// The aim preview: the first flight's ballistic arc from the launch until the centre of mass
+/// reaches the water (exact free flight, design §4), dashed.
+pub fn aim_preview(preset: &Preset) -> Vec<Line> {
+    let p0 = DVec3::from_array(preset.launch.position);
+    let v0 = DVec3::from_array(preset.launch.velocity);
+    let g = preset.physics.gravity;
+    // Time to z = 0: p0.z + v0.z t − g t²/2 = 0.
+    let disc = v0.z * v0.z + 2.0 * g * p0.z.max(0.0);
+    let t_end = if g > 0.0 && disc >= 0.0 {
+        (v0.z + disc.sqrt()) / g
+    } else {
+        1.0
+    };
+    let t_end = if t_end.is_finite() {
+        t_end.clamp(0.05, 5.0)
+    } else {
+        1.0
+    };
+    let n = 40;
+    let at = |k: usize| {
+        let t = t_end * k as f64 / n as f64;
+        (p0 + v0 * t - DVec3::Z * (0.5 * g * t * t)).as_vec3()
+    };
+    let color = [0.6, 0.95, 1.0, 0.9];
+    let mut lines: Vec<Line> = (0..n)
+        .step_by(2)
+        .map(|k| Line {
+            a: at(k),
+            b: at(k + 1),
+            width_px: 2.5,
+            color,
+        })
+        .collect();
+    // A ring where the centre of mass reaches the water.
+    let land = at(n).with_z(0.0);
+    let r = 0.25;
+    let ring = |k: usize| {
+        let a = k as f32 / 24.0 * std::f32::consts::TAU;
+        land + Vec3::new(a.cos(), a.sin(), 0.0) * r
+    };
+    lines.extend((0..24).map(|k| Line {
+        a: ring(k),
+        b: ring(k + 1),
+        width_px: 2.0,
+        color,
+    }));
+    lines
+}
+
+/// Ghosts of earlier throws: their trails as thin lines, older ones fainter.
+pub fn ghost_lines(ghosts: &[Vec<Vec3>]) -> Vec<Line> {
+    let n = ghosts.len().max(1) as f32;
+    let mut lines = Vec::new();
+    for (i, pts) in ghosts.iter().enumerate() {
+        let alpha = 0.25 + 0.45 * (i as f32 + 1.0) / n;
+        let color = ghost_color(i, alpha);
+        lines.extend(pts.windows(2).map(|w| Line {
+            a: w[0],
+            b: w[1],
+            width_px: 1.5,
+            color,
+        }));
+    }
+    lines
+}
+
+/// The colour of ghost `i` (the table of earlier throws uses the same).
+pub fn ghost_color(i: usize, alpha: f32) -> [f32; 4] {
+    const C: [[f32; 3]; 5] = [
+        [0.55, 0.75, 1.0],
+        [0.95, 0.6, 1.0],
+        [0.6, 1.0, 0.85],
+        [1.0, 0.65, 0.55],
+        [0.85, 0.85, 0.85],
+    ];
+    let c = C[i % C.len()];
+    [c[0], c[1], c[2], alpha]
+}
+
+/// A trail thinned to at most `max` points (for ghosts).
+pub fn thinned(points: &[Vec3], max: usize) -> Vec<Vec3> {
+    if points.len() <= max.max(2) {
+        return points.to_vec();
+    }
+    let step = points.len().div_ceil(max.max(2));
+    let mut out: Vec<Vec3> = points.iter().step_by(step).copied().collect();
+    if let Some(last) = points.last() {
+        out.push(*last);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::integrate::BodyState;
+
+    fn sample(t: f64, x: f64, in_contact: bool) -> StepSample {
+        StepSample {
+            time: t,
+            state: BodyState {
+                position: DVec3::new(x, 0.0, 0.1),
+                velocity: DVec3::X,
+                orientation: DQuat::IDENTITY,
+                angular_momentum: DVec3::ZERO,
+            },
+            angular_velocity: DVec3::ZERO,
+            in_contact,
+            wetted_area: 0.0,
+            force: DVec3::ZERO,
+        }
+    }
+
+    #[test]
+    fn trail_thins_but_keeps_the_newest_point_and_contact_changes() {
+        let mut trail = Trail::new();
+        trail.start(DVec3::new(0.0, 0.0, 0.1));
+        for i in 1..=1000 {
+            // 1 mm apart: about one point kept per centimetre.
+            trail.push(&sample(i as f64 * 1e-4, i as f64 * 1e-3, false));
+        }
+        let n = trail.points().len();
+        assert!((95..=110).contains(&n), "{n} points");
+        assert!((trail.points()[n - 1].x - 1.0).abs() < 1e-6);
+        let before = trail.points().len();
+        trail.push(&sample(0.2, 1.0001, true));
+        trail.push(&sample(0.2001, 1.0002, true));
+        assert!(trail.points().len() > before);
+    }
+
+    #[test]
+    fn splashes_fade_out() {
+        let mut sim = Simulation::new(&crate::sim::params::Preset::default()).unwrap();
+        while sim.contacts().is_empty() && sim.time() < 2.0 {
+            sim.tick();
+        }
+        let c = sim.contacts()[0];
+        assert!(splashes_of(&[c], c.t_start - 0.1).is_empty());
+        assert_eq!(splashes_of(&[c], c.t_start + 0.1).len(), 1);
+        assert!(splashes_of(&[c], c.t_start + SPLASH_DURATION + 0.01).is_empty());
+        assert_eq!(markers_of(&[c]).len(), 1);
+    }
+}

@@ -1,0 +1,122 @@
+//! Readings of the water: the surface η (per column and bilinear between column centres), depths,
+//! flows, bed and volume, all in f64 whatever the storage precision.
+
+use super::storage::each;
+use super::WaterGrid;
+
+impl WaterGrid {
+    /// Column indices and weights for bilinear sampling on column centres; points in the outer half
+    /// cell take the edge column's value.
+    pub(super) fn bilinear(&self, x: f64, y: f64) -> [(usize, usize, f64); 2] {
+        let l = self.cfg.cell;
+        let axis = |p: f64, o: f64, n: usize| {
+            let f = ((p - o) / l - 0.5).clamp(0.0, (n - 1) as f64);
+            let i0 = (f.floor() as usize).min(n.saturating_sub(2));
+            let t = (f - i0 as f64).clamp(0.0, 1.0);
+            (i0, (i0 + 1).min(n - 1), t)
+        };
+        [
+            axis(x, self.cfg.origin[0], self.cfg.nx),
+            axis(y, self.cfg.origin[1], self.cfg.ny),
+        ]
+    }
+
+    /// Whether world (x, y) lies over the grid.
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        let [ox, oy] = self.cfg.origin;
+        let l = self.cfg.cell;
+        x >= ox && y >= oy && x < ox + self.cfg.nx as f64 * l && y < oy + self.cfg.ny as f64 * l
+    }
+
+    /// Surface elevation η (m) above the rest level z = 0 at world (x, y), bilinear between column
+    /// centres; 0 outside the grid.
+    pub fn surface_height(&self, x: f64, y: f64) -> f64 {
+        if !self.contains(x, y) {
+            return 0.0;
+        }
+        let [(i0, i1, tx), (j0, j1, ty)] = self.bilinear(x, y);
+        let a = self.eta(i0, j0) + tx * (self.eta(i1, j0) - self.eta(i0, j0));
+        let b = self.eta(i0, j1) + tx * (self.eta(i1, j1) - self.eta(i0, j1));
+        a + ty * (b - a)
+    }
+
+    /// η (m) of column (ix, iy): bed + depth, relative to the rest level; 0 outside the grid.
+    pub fn eta(&self, ix: usize, iy: usize) -> f64 {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny {
+            return 0.0;
+        }
+        let (i, j) = (self.at(ix, iy, 0), iy * self.co.w() + 1 + ix);
+        let (d, b) = each!(&self.state, f => (f.get(i), f.bed_at(j)));
+        match b {
+            Some(b) => (d + b) - self.cfg.depth,
+            None => d - self.cfg.depth,
+        }
+    }
+
+    /// η of every column, row-major (iy * nx + ix), for rendering as a texture.
+    pub fn eta_f32(&self, out: &mut Vec<f32>) {
+        let (co, h) = (&self.co, self.cfg.depth);
+        each!(&self.state, f => f.eta_f32(co, h, out));
+    }
+
+    /// Total water volume (m³): l²·Σ depth, Neumaier-compensated.
+    pub fn volume(&self) -> f64 {
+        let sum = each!(&self.state, f => f.depth_sum(&self.co));
+        sum * self.cfg.cell * self.cfg.cell
+    }
+
+    /// Water depth (m) of column (ix, iy); 0 outside the grid.
+    pub fn depth(&self, ix: usize, iy: usize) -> f64 {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny {
+            return 0.0;
+        }
+        let i = self.at(ix, iy, 0);
+        each!(&self.state, f => f.get(i))
+    }
+
+    /// Smallest depth of any column (m); NaN if any depth is NaN.
+    pub fn min_depth(&self) -> f64 {
+        each!(&self.state, f => f.min_depth(&self.co))
+    }
+
+    /// Largest |η| over the grid (m); NaN if any η is NaN.
+    pub fn max_abs_eta(&self) -> f64 {
+        let mut m = 0.0f64;
+        for iy in 0..self.cfg.ny {
+            for ix in 0..self.cfg.nx {
+                let e = self.eta(ix, iy).abs();
+                if e.is_nan() {
+                    return f64::NAN;
+                }
+                m = m.max(e);
+            }
+        }
+        m
+    }
+
+    /// Bed elevation z (m) of column (ix, iy): −H unless set by [`Self::set_bed`] (or outside the grid).
+    pub fn bed(&self, ix: usize, iy: usize) -> f64 {
+        let b = if ix < self.cfg.nx && iy < self.cfg.ny {
+            let j = iy * self.co.w() + 1 + ix;
+            each!(&self.state, f => f.bed_at(j)).unwrap_or(0.0)
+        } else {
+            0.0
+        };
+        b - self.cfg.depth
+    }
+
+    /// The flow (m³/s) of pipe `pipe` (0: +x, 1: +y, 2: +x+y, 3: −x+y) owned by column (ix, iy); 0 for a
+    /// wall, a missing pipe or outside the grid.
+    pub fn flow(&self, ix: usize, iy: usize, pipe: usize) -> f64 {
+        if ix >= self.cfg.nx || iy >= self.cfg.ny || pipe + 1 >= self.co.nf {
+            return 0.0;
+        }
+        let i = self.at(ix, iy, pipe + 1);
+        each!(&self.state, f => f.get(i))
+    }
+
+    /// Index of field `f` (0 depth, 1.. pipes) of column (ix, iy) in the state.
+    pub(super) fn at(&self, ix: usize, iy: usize, f: usize) -> usize {
+        self.co.at(ix, iy, f)
+    }
+}

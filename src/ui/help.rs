@@ -1,0 +1,184 @@
+//! The help overlay (F1 or ?: every shortcut and mouse gesture) and the "about the model" panel:
+//! each law and option in a sentence with its source (design.md §4–5).
+
+use egui::{RichText, Ui};
+
+/// Every shortcut and gesture: (keys, what it does).
+pub const SHORTCUTS: &[(&str, &str)] = &[
+    ("Space", "throw with the settings"),
+    (
+        "drag from the stone",
+        "throw by hand: direction and speed from the drag (before a throw)",
+    ),
+    ("P", "pause / resume"),
+    ("S", "step exactly one tick"),
+    ("R", "reset to the launch point"),
+    ("1 / 2 / 3 / 4", "camera: behind, follow (chase), side, top"),
+    ("F", "follow the stone"),
+    (
+        "E",
+        "side view: next vertical exaggeration (1×, 5×, 10×, 20×)",
+    ),
+    ("5 or double-click", "frame the whole trajectory"),
+    (
+        "drag / right-drag / wheel",
+        "orbit / pan / zoom (the camera is then free)",
+    ),
+    ("F1 or ?", "this help"),
+    ("M", "about the model"),
+    ("Esc", "close help and messages"),
+];
+
+/// The help overlay's contents.
+pub fn help_ui(ui: &mut Ui) {
+    egui::Grid::new("help_grid")
+        .num_columns(2)
+        .spacing([18.0, 4.0])
+        .striped(true)
+        .show(ui, |ui| {
+            for (keys, what) in SHORTCUTS {
+                ui.label(RichText::new(*keys).strong().monospace());
+                ui.label(*what);
+                ui.end_row();
+            }
+        });
+    ui.add_space(6.0);
+    ui.weak(
+        "Live physics changes apply at the next tick and Replay repeats them at the same ticks; \
+         launch, stone and water changes apply on the next throw. Exports go to the folder shown \
+         in the Export panel.",
+    );
+}
+
+/// (topic, sentence, source) for the about panel.
+const MODEL: &[(&str, &str, &str)] = &[
+    (
+        "Stone",
+        "A thin body of revolution (disc, lens) or a plate made of triangles; its mass is given, \
+         its centre and inertia come from the mesh.",
+        "the paper §2; Bocquet 2003 (plate)",
+    ),
+    (
+        "Flight",
+        "Exact ballistic motion under gravity; no air drag (a scene of a few seconds does not \
+         need it).",
+        "the paper, eqs. 4–8",
+    ),
+    (
+        "Contact",
+        "A triangle touches when a vertex is at or below the surface; its wetted part is clipped \
+         by the surface and its area taken by the cross product (Heron's formula loses digits on \
+         slivers).",
+        "the paper §3.1–3.2, Fig. 5",
+    ),
+    (
+        "Paper law",
+        "Each wetted face is pushed along its normal by ½ C_l ρ v_n² S and dragged by \
+         ½ C_f ρ |V_t|² S.",
+        "the paper, eqs. 11–24; Nagahiro & Hayakawa 2005",
+    ),
+    (
+        "Bocquet law",
+        "The same directions with magnitudes ½ C ρ U² S from the centre-of-mass speed U: on a \
+         thin plate, Bocquet's 2D model, the analytic yardstick.",
+        "Bocquet 2003, eqs. 1–3",
+    ),
+    (
+        "Rosellini law",
+        "Pressure C_L ρ U max(0, v_n) S on faces advancing into the water; it alone puts the \
+         minimal speed's minimum near the measured magic angle (~20°).",
+        "Rosellini et al. 2005, eq. 4.2; Clanet, Hersen & Bocquet 2004",
+    ),
+    (
+        "Ventilated",
+        "Only faces advancing into the water get pressure and friction; the rear sits in an \
+         air-filled cavity (off: every wetted face, as printed in the paper).",
+        "Clanet et al. 2004; the paper",
+    ),
+    (
+        "Rotation",
+        "Locked holds the attitude fixed (the paper's high-spin limit); Free makes the stone a \
+         rigid body with torque, spin and gyroscopic stability.",
+        "the paper (future work); Rosellini et al. 2005",
+    ),
+    (
+        "Integrators",
+        "Paper (Euler velocity, trapezoid position), symplectic Euler and RK4 take fixed ticks; \
+         Adaptive flies exactly, locates contact entry by root finding and controls its error in \
+         contact. The stability study gives each one's largest stable step.",
+        "the paper, eqs. 30–38; docs/studies/stability",
+    ),
+    (
+        "Outcome",
+        "Sank when the whole underside is below the surface; left the lake at the grid's edge; \
+         still going at the time limit; diverged when the numbers stop being finite. A skip is a \
+         contact that ends with the stone wholly in the air.",
+        "Bocquet 2003 (loss of lift); design §4",
+    ),
+    (
+        "Water",
+        "Columns on a square grid joined by pipes with one signed flow each (4 or 8 pipes, \
+         isotropic areas); flows first, then volumes from the new flows.",
+        "O'Brien & Hodgins 1995",
+    ),
+    (
+        "Limiter",
+        "Each column's outflows are scaled so it never gives more than it holds: mass is \
+         conserved exactly (the paper's clamp, eq. 41, creates water).",
+        "Mei et al. 2007; the paper, eq. 41",
+    ),
+    (
+        "Coupling",
+        "The force the water exerts on the stone goes back to the columns under the wetted \
+         triangles as pressure (Newton's third law); volume stays conserved.",
+        "O'Brien & Hodgins 1995",
+    ),
+    (
+        "Stability",
+        "The water steps on its own clock under the Courant limit c·Δt/l ≤ 1/√2 (4 pipes) or \
+         √3/2 (8 pipes), c = √(gH), at 70 % of it.",
+        "docs/studies/stability §B",
+    ),
+    (
+        "Wavy contact",
+        "Contact against the grid's height instead of z = 0: the stone rides on the water its own \
+         pressure moves, which breaks up the steady planing glides of flat water (the shipped \
+         presets use it on 2 cm columns; distances agree within ~10 % from 1 to 5 cm).",
+        "the paper (future work); Hewitt et al. 2011; docs/studies/fidelity",
+    ),
+    (
+        "Buoyancy",
+        "Hydrostatic pressure ρ g d on each loaded face, d the depth of its wetted centroid: \
+         Archimedes' force, exact on planar faces.",
+        "Archimedes; Savitsky 1964 (buoyant lift of planing)",
+    ),
+    (
+        "Axial spin",
+        "Smooth: the pebble stands for a smooth body of revolution, whose spin about its axis \
+         moves no water normal to its surface; the facets then neither paddle nor spin it up.",
+        "design §4; docs/studies/fidelity",
+    ),
+    (
+        "Receding faces",
+        "Without ventilation the paper as printed pushes a face moving out of the water along −N \
+         (energy from nowhere); read energy-consistently each face's pressure opposes its own \
+         normal motion.",
+        "the paper, eq. 19; physics.md §7.1",
+    ),
+];
+
+/// The "about the model" panel's contents.
+pub fn about_ui(ui: &mut Ui) {
+    egui::ScrollArea::vertical()
+        .max_height(460.0)
+        .show(ui, |ui| {
+            for (topic, sentence, source) in MODEL {
+                ui.horizontal_wrapped(|ui| {
+                    ui.label(RichText::new(*topic).strong());
+                    ui.label(*sentence);
+                    ui.label(RichText::new(format!("[{source}]")).italics().weak());
+                });
+                ui.add_space(3.0);
+            }
+        });
+}
