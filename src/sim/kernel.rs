@@ -1243,7 +1243,7 @@ mod simd {
         la: &mut LaneAcc<4>,
         loads: &mut Vec<FaceLoad>,
     ) {
-        assert!((end - start) % 4 == 0);
+        assert!((end - start).is_multiple_of(4));
         if GATHER {
             assert!(end <= list.len() && list.iter().all(|&j| (j as usize) < f.len()));
         } else {
