@@ -693,6 +693,11 @@ impl<'a> Ctx<'a> {
 
     /// The options the explicit-SIMD chunks implement: all but the planing centre and buoyancy on
     /// wavy water (its depths need the surface's heights).
+    /// Any issue-11 option on (the SIMD chunks have a leaner variant without them).
+    fn has_extras(&self) -> bool {
+        self.opposing || self.rho_g != 0.0 || self.normal_w.is_some() || self.axis.is_some()
+    }
+
     fn is_plain(&self) -> bool {
         self.dir.is_none() && !(self.rho_g != 0.0 && self.wavy.is_some())
     }
@@ -1211,7 +1216,13 @@ mod simd {
         loads: &mut Vec<FaceLoad>,
     ) {
         // SAFETY: AVX2 is enabled here as in the caller.
-        unsafe { chunks::<LAW, ROT, false>(c, f, start, end, &[], la, loads) }
+        unsafe {
+            if c.has_extras() {
+                chunks::<LAW, ROT, false, true>(c, f, start, end, &[], la, loads)
+            } else {
+                chunks::<LAW, ROT, false, false>(c, f, start, end, &[], la, loads)
+            }
+        }
     }
 
     /// Faces `list` (whole chunks of four; the rest is left to the caller) into `la`.
@@ -1225,13 +1236,19 @@ mod simd {
     ) {
         let n = list.len() / 4 * 4;
         // SAFETY: AVX2 is enabled here as in the caller.
-        unsafe { chunks::<LAW, ROT, true>(c, f, 0, n, list, la, loads) }
+        unsafe {
+            if c.has_extras() {
+                chunks::<LAW, ROT, true, true>(c, f, 0, n, list, la, loads)
+            } else {
+                chunks::<LAW, ROT, true, false>(c, f, 0, n, list, la, loads)
+            }
+        }
     }
 
     /// Faces `start..end` of the arrays, or of `list` when `GATHER`.
     #[target_feature(enable = "avx2")]
     #[allow(clippy::too_many_arguments)]
-    unsafe fn chunks<const LAW: u8, const ROT: bool, const GATHER: bool>(
+    unsafe fn chunks<const LAW: u8, const ROT: bool, const GATHER: bool, const EXTRA: bool>(
         c: &Ctx,
         f: &FaceSoa,
         start: usize,
@@ -1324,7 +1341,7 @@ mod simd {
             };
             let vdn = dot3(vx, vy, vz);
             // The normal velocity: from V + ω_⊥ × r on the smooth body, else v·N.
-            let vn = if split {
+            let vn = if EXTRA && split {
                 if ROT {
                     dot3(
                         _mm256_add_pd(
@@ -1366,7 +1383,7 @@ mod simd {
                 _ => (
                     _mm256_mul_pd(
                         _mm256_mul_pd(_mm256_mul_pd(lift_rho, area), speed),
-                        if c.opposing {
+                        if EXTRA && c.opposing {
                             _mm256_andnot_pd(sign_bit, vn)
                         } else {
                             _mm256_max_pd(vn, zero)
@@ -1376,7 +1393,7 @@ mod simd {
                 ),
             };
             // sign · pressure + hydrostatic.
-            let signed = if c.opposing {
+            let signed = if EXTRA && c.opposing {
                 let gt = _mm256_cmp_pd::<_CMP_GT_OQ>(vn, zero);
                 let lt = _mm256_cmp_pd::<_CMP_LT_OQ>(vn, zero);
                 let sign = _mm256_blendv_pd(_mm256_blendv_pd(zero, set(-1.0), lt), set(1.0), gt);
@@ -1384,7 +1401,7 @@ mod simd {
             } else {
                 _mm256_mul_pd(set(1.0), pressure)
             };
-            let hydrostatic = if c.rho_g != 0.0 {
+            let hydrostatic = if EXTRA && c.rho_g != 0.0 {
                 let zc = _mm256_add_pd(pos_z, dot_up(gx, gy, gz));
                 let depth = _mm256_xor_pd(zc, sign_bit);
                 _mm256_mul_pd(_mm256_mul_pd(rho_g, _mm256_max_pd(depth, zero)), area)
@@ -1430,7 +1447,7 @@ mod simd {
                 keep(_mm256_sub_pd(_mm256_mul_pd(gx, fy), _mm256_mul_pd(fx, gy))),
             );
             aa = _mm256_add_pd(aa, keep(area));
-            if let Some(a) = c.axis {
+            if let (true, Some(a)) = (EXTRA, c.axis) {
                 let pn = dot3(fx, fy, fz);
                 let (px, py, pz) = (
                     _mm256_mul_pd(nx, pn),
