@@ -448,6 +448,8 @@ impl Simulation {
         self.preset.physics = physics;
         self.hydro = HydroParams::from_physics(&physics);
         self.motion.fsal = None;
+        // The reach of the next tick depends on the tick.
+        self.refresh_water_max();
         Ok(())
     }
 
@@ -515,53 +517,41 @@ impl Simulation {
             w.advance(dt);
             let stepped = w.time() != before;
             self.motion.pending.clear();
-            if stepped {
-                self.refresh_water_max();
-                if self.preset.water.wavy_contact {
-                    // The surface the last forces were evaluated on has moved.
-                    self.motion.fsal = None;
-                }
+            if stepped && self.preset.water.wavy_contact {
+                // The surface the last forces were evaluated on has moved.
+                self.motion.fsal = None;
             }
+            // Every tick: the bounds cover the region the stone can reach in the next one.
+            self.refresh_water_max();
         } else {
             self.motion.pending.clear();
         }
     }
 
-    /// The highest η and an upper bound of the slope |∇η| of the surface the stone touches. The
-    /// bilinear surface's ∂η/∂x within a cell interpolates the x-differences of its two rows, so it is
-    /// at most the largest |Δη| between neighbouring columns over l (likewise for y).
+    /// The highest η and an upper bound of the slope |∇η| of the surface the stone can touch during
+    /// the next tick: over the columns within its reach, the bounding radius plus twice the distance
+    /// it can travel in a tick (its speed, plus what gravity adds, times the tick; the water only
+    /// slows it) plus two cells. The bilinear surface's ∂η/∂x within a cell interpolates the
+    /// x-differences of its two rows, so it is at most the largest |Δη| between neighbouring columns
+    /// over l (likewise for y). Local, so its cost does not grow with the lake.
     fn refresh_water_max(&mut self) {
         if !self.preset.water.wavy_contact {
             self.water_max_eta = 0.0;
             self.water_max_slope = 0.0;
             return;
         }
-        if let Some(w) = &self.water {
-            let (mut m, mut sx, mut sy) = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
-            let (mut below, mut row): (Vec<f64>, Vec<f64>) =
-                (Vec::new(), Vec::with_capacity(w.nx()));
-            for iy in 0..w.ny() {
-                row.clear();
-                row.extend((0..w.nx()).map(|ix| w.eta(ix, iy)));
-                for (ix, &e) in row.iter().enumerate() {
-                    m = m.max(e);
-                    if ix > 0 {
-                        sx = sx.max((e - row[ix - 1]).abs());
-                    }
-                    if let Some(b) = below.get(ix) {
-                        sy = sy.max((e - b).abs());
-                    }
-                }
-                std::mem::swap(&mut below, &mut row);
-            }
-            self.water_max_eta = if m.is_finite() { m } else { 0.0 };
-            let slope = sx.hypot(sy) / w.cell();
-            self.water_max_slope = if slope.is_finite() {
-                slope
-            } else {
-                f64::INFINITY
-            };
-        }
+        let Some(w) = &self.water else { return };
+        let s = &self.motion.state;
+        let dt = self.preset.physics.dt;
+        let speed = s.velocity.length() + self.preset.physics.gravity * dt;
+        let reach = self.stone.bounding_radius + 2.0 * speed * dt + 2.0 * w.cell();
+        let (m, slope) = local_bounds(w, s.position.x, s.position.y, reach);
+        self.water_max_eta = if m.is_finite() { m } else { 0.0 };
+        self.water_max_slope = if slope.is_finite() {
+            slope
+        } else {
+            f64::INFINITY
+        };
     }
 
     fn surface(&self) -> SurfaceRef<'_> {
@@ -1113,6 +1103,45 @@ fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
         };
         h = (h * shrink).max(h_min);
     }
+}
+
+/// The highest η (−∞ when no column lies within `reach` of (x, y)) and the largest
+/// |Δη|/l between neighbouring columns there, over the columns whose centres lie within `reach`
+/// (m) of (x, y) in x and y, and one more on each side.
+fn local_bounds(w: &WaterGrid, x: f64, y: f64, reach: f64) -> (f64, f64) {
+    let [ox, oy] = w.origin();
+    let l = w.cell();
+    let span = |c: f64, o: f64, n: usize| {
+        let lo = ((c - reach - o) / l - 1.5).floor().max(0.0);
+        let hi = ((c + reach - o) / l + 0.5).ceil().min(n as f64 - 1.0);
+        (lo as usize, hi as usize, hi >= lo)
+    };
+    let (x0, x1, okx) = span(x, ox, w.nx());
+    let (y0, y1, oky) = span(y, oy, w.ny());
+    if !(okx && oky) {
+        return (f64::NEG_INFINITY, 0.0);
+    }
+    // Beyond the grid the surface is at rest (η = 0): count it when the reach extends past an edge.
+    let inside = |c: f64, o: f64, n: usize| c - reach > o && c + reach < o + n as f64 * l;
+    let mut m = if inside(x, ox, w.nx()) && inside(y, oy, w.ny()) {
+        f64::NEG_INFINITY
+    } else {
+        0.0
+    };
+    let (mut sx, mut sy) = (0.0f64, 0.0f64);
+    for iy in y0..=y1 {
+        for ix in x0..=x1 {
+            let e = w.eta(ix, iy);
+            m = m.max(e);
+            if ix > x0 {
+                sx = sx.max((e - w.eta(ix - 1, iy)).abs());
+            }
+            if iy > y0 {
+                sy = sy.max((e - w.eta(ix, iy - 1)).abs());
+            }
+        }
+    }
+    (m, sx.hypot(sy) / l)
 }
 
 /// Convenience: runs a preset to its end and returns the summary.
