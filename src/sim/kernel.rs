@@ -242,6 +242,13 @@ const NORMAL_SLACK: f64 = 1e-12;
 impl KernelMesh {
     /// From the centred mesh and its body-frame normals and areas.
     pub fn new(mesh: &Mesh, normals: &[DVec3], areas: &[f64]) -> Self {
+        let reach = mesh
+            .positions
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        // Faces that face apart go apart early (the top and bottom of a thin stone), so boxes are
+        // thin along their normals and wholly wet or dry more often.
         let items: Vec<Item> = mesh
             .triangles
             .iter()
@@ -249,7 +256,7 @@ impl KernelMesh {
             .map(|(tri, &n)| {
                 let c = tri.map(|i| mesh.positions[i as usize]);
                 Item {
-                    key: (c[0] + c[1] + c[2]) * (1.0 / 3.0),
+                    key: (c[0] + c[1] + c[2]) * (1.0 / 3.0) + n * reach,
                     lo: c[0].min(c[1]).min(c[2]),
                     hi: c[0].max(c[1]).max(c[2]),
                     nlo: n,
@@ -281,11 +288,6 @@ impl KernelMesh {
             .collect();
         let (vertex_nodes, vertex_order) = build_hierarchy(&vitems);
         let vertices = vertex_order.iter().map(|&i| mesh.positions[i]).collect();
-        let reach = mesh
-            .positions
-            .iter()
-            .map(|p| p.abs().max_element())
-            .fold(0.0, f64::max);
         Self {
             faces,
             face_nodes,
@@ -689,14 +691,15 @@ impl<'a> Ctx<'a> {
         }
     }
 
-    /// The options the explicit-SIMD chunks implement: the paper's sign, no buoyancy, faceted
-    /// spin, no planing centre.
+    /// The options the explicit-SIMD chunks implement: all but the planing centre and buoyancy on
+    /// wavy water (its depths need the surface's heights).
+    /// Any issue-11 option on (the SIMD chunks have a leaner variant without them).
+    fn has_extras(&self) -> bool {
+        self.opposing || self.rho_g != 0.0 || self.normal_w.is_some() || self.axis.is_some()
+    }
+
     fn is_plain(&self) -> bool {
-        !self.opposing
-            && self.rho_g == 0.0
-            && self.normal_w.is_none()
-            && self.axis.is_none()
-            && self.dir.is_none()
+        self.dir.is_none() && !(self.rho_g != 0.0 && self.wavy.is_some())
     }
 
     /// The angular velocity the pressure sees is zero: a ventilated face receding from the water
@@ -1121,6 +1124,9 @@ fn wet_faces_body<const LAW: u8, const ROT: bool>(
     }
     let mut chunks = list.chunks_exact(LANES);
     for ch in chunks.by_ref() {
+        if chunks_done {
+            continue;
+        }
         let idx = [ch[0], ch[1], ch[2], ch[3]].map(|j| j as usize);
         wet_chunk::<LANES, LAW, ROT, _>(c, faces, Gathered(idx), &mut acc.listed, loads);
     }
@@ -1144,7 +1150,8 @@ unsafe fn wet_faces_avx2<const LAW: u8, const ROT: bool>(
         let full = range.start + (range.len() / LANES) * LANES;
         // SAFETY: AVX2 is enabled in this function; the chunks lie inside the face arrays.
         unsafe {
-            simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks, loads)
+            simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks, loads);
+            simd::plain_list::<LAW, ROT>(c, faces, list, &mut acc.listed, loads);
         };
     }
     wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, plain)
@@ -1182,8 +1189,9 @@ fn wet_faces<const LAW: u8, const ROT: bool>(
     wet_faces_portable::<LAW, ROT>(c, faces, range, list, acc, loads)
 }
 
-/// Explicit AVX2 for the common case (the paper's options, no planing centre, no record): the
-/// operations of [`lane_law`] and [`contribute`] in the same order, four faces per register.
+/// Explicit AVX2 for the common cases (every option but the planing centre and buoyancy on wavy
+/// water): the operations of [`lane_law`] and [`contribute`] in the same order, four faces per
+/// register.
 #[cfg(target_arch = "x86_64")]
 mod simd {
     use super::{Ctx, FaceLoad, FaceSoa, LaneAcc, BOCQUET, PAPER};
@@ -1207,7 +1215,68 @@ mod simd {
         la: &mut LaneAcc<4>,
         loads: &mut Vec<FaceLoad>,
     ) {
-        assert!(end <= f.len() && (end - start) % 4 == 0);
+        // SAFETY: AVX2 is enabled here as in the caller.
+        unsafe {
+            if c.has_extras() {
+                chunks::<LAW, ROT, false, true>(c, f, start, end, &[], la, loads)
+            } else {
+                chunks::<LAW, ROT, false, false>(c, f, start, end, &[], la, loads)
+            }
+        }
+    }
+
+    /// Faces `list` (whole chunks of four; the rest is left to the caller) into `la`.
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn plain_list<const LAW: u8, const ROT: bool>(
+        c: &Ctx,
+        f: &FaceSoa,
+        list: &[u32],
+        la: &mut LaneAcc<4>,
+        loads: &mut Vec<FaceLoad>,
+    ) {
+        let n = list.len() / 4 * 4;
+        // SAFETY: AVX2 is enabled here as in the caller.
+        unsafe {
+            if c.has_extras() {
+                chunks::<LAW, ROT, true, true>(c, f, 0, n, list, la, loads)
+            } else {
+                chunks::<LAW, ROT, true, false>(c, f, 0, n, list, la, loads)
+            }
+        }
+    }
+
+    /// Faces `start..end` of the arrays, or of `list` when `GATHER`.
+    #[target_feature(enable = "avx2")]
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn chunks<const LAW: u8, const ROT: bool, const GATHER: bool, const EXTRA: bool>(
+        c: &Ctx,
+        f: &FaceSoa,
+        start: usize,
+        end: usize,
+        list: &[u32],
+        la: &mut LaneAcc<4>,
+        loads: &mut Vec<FaceLoad>,
+    ) {
+        assert!((end - start).is_multiple_of(4));
+        if GATHER {
+            assert!(end <= list.len() && list.iter().all(|&j| (j as usize) < f.len()));
+        } else {
+            assert!(end <= f.len());
+        }
+        let index = |k: usize| if GATHER { list[k] as usize } else { k };
+        let ld = |col: &[f64], k: usize| {
+            if GATHER {
+                _mm256_set_pd(
+                    col[list[k + 3] as usize],
+                    col[list[k + 2] as usize],
+                    col[list[k + 1] as usize],
+                    col[list[k] as usize],
+                )
+            } else {
+                // SAFETY: k + 4 ≤ end ≤ len (asserted above).
+                unsafe { ld(col, k) }
+            }
+        };
         let set = |x: f64| _mm256_set1_pd(x);
         let (vx0, vy0, vz0) = (set(c.v.x), set(c.v.y), set(c.v.z));
         let (wx, wy, wz) = (set(c.w.x), set(c.w.y), set(c.w.z));
@@ -1227,12 +1296,25 @@ mod simd {
         let mut af = [rd(&la.force[0]), rd(&la.force[1]), rd(&la.force[2])];
         let mut at = [rd(&la.torque[0]), rd(&la.torque[1]), rd(&la.torque[2])];
         let mut aa = rd(&la.area);
+        let mut ax = rd(&la.axial);
+        let split = c.normal_w.is_some();
+        let wn = c.normal_w.unwrap_or(glam::DVec3::ZERO);
+        let (wnx, wny, wnz) = (set(wn.x), set(wn.y), set(wn.z));
+        let rho_g = set(c.rho_g);
+        let pos_z = set(c.position.z);
+        let (upx, upy, upz) = (set(c.up.x), set(c.up.y), set(c.up.z));
+        let dot_up = |x: __m256d, y: __m256d, z: __m256d| {
+            _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(upx, x), _mm256_mul_pd(upy, y)),
+                _mm256_mul_pd(upz, z),
+            )
+        };
         let mut i = start;
         while i < end {
             // SAFETY: i + 4 ≤ end ≤ len.
-            let (nx, ny, nz) = unsafe { (ld(&f.n[0], i), ld(&f.n[1], i), ld(&f.n[2], i)) };
-            let (gx, gy, gz) = unsafe { (ld(&f.g[0], i), ld(&f.g[1], i), ld(&f.g[2], i)) };
-            let area = unsafe { ld(&f.area, i) };
+            let (nx, ny, nz) = (ld(&f.n[0], i), ld(&f.n[1], i), ld(&f.n[2], i));
+            let (gx, gy, gz) = (ld(&f.g[0], i), ld(&f.g[1], i), ld(&f.g[2], i));
+            let area = ld(&f.area, i);
             let (vx, vy, vz) = if ROT {
                 (
                     _mm256_add_pd(
@@ -1251,14 +1333,40 @@ mod simd {
             } else {
                 (vx0, vy0, vz0)
             };
-            let vn = _mm256_add_pd(
-                _mm256_add_pd(_mm256_mul_pd(vx, nx), _mm256_mul_pd(vy, ny)),
-                _mm256_mul_pd(vz, nz),
-            );
+            let dot3 = |ax: __m256d, ay: __m256d, az: __m256d| {
+                _mm256_add_pd(
+                    _mm256_add_pd(_mm256_mul_pd(ax, nx), _mm256_mul_pd(ay, ny)),
+                    _mm256_mul_pd(az, nz),
+                )
+            };
+            let vdn = dot3(vx, vy, vz);
+            // The normal velocity: from V + ω_⊥ × r on the smooth body, else v·N.
+            let vn = if EXTRA && split {
+                if ROT {
+                    dot3(
+                        _mm256_add_pd(
+                            vx0,
+                            _mm256_sub_pd(_mm256_mul_pd(wny, gz), _mm256_mul_pd(gy, wnz)),
+                        ),
+                        _mm256_add_pd(
+                            vy0,
+                            _mm256_sub_pd(_mm256_mul_pd(wnz, gx), _mm256_mul_pd(gz, wnx)),
+                        ),
+                        _mm256_add_pd(
+                            vz0,
+                            _mm256_sub_pd(_mm256_mul_pd(wnx, gy), _mm256_mul_pd(gx, wny)),
+                        ),
+                    )
+                } else {
+                    dot3(vx0, vy0, vz0)
+                }
+            } else {
+                vdn
+            };
             let hrs = _mm256_mul_pd(half_rho, area);
-            let tx = _mm256_sub_pd(vx, _mm256_mul_pd(nx, vn));
-            let ty = _mm256_sub_pd(vy, _mm256_mul_pd(ny, vn));
-            let tz = _mm256_sub_pd(vz, _mm256_mul_pd(nz, vn));
+            let tx = _mm256_sub_pd(vx, _mm256_mul_pd(nx, vdn));
+            let ty = _mm256_sub_pd(vy, _mm256_mul_pd(ny, vdn));
+            let tz = _mm256_sub_pd(vz, _mm256_mul_pd(nz, vdn));
             let vt_len = _mm256_sqrt_pd(_mm256_add_pd(
                 _mm256_add_pd(_mm256_mul_pd(tx, tx), _mm256_mul_pd(ty, ty)),
                 _mm256_mul_pd(tz, tz),
@@ -1275,13 +1383,32 @@ mod simd {
                 _ => (
                     _mm256_mul_pd(
                         _mm256_mul_pd(_mm256_mul_pd(lift_rho, area), speed),
-                        _mm256_max_pd(vn, zero),
+                        if EXTRA && c.opposing {
+                            _mm256_andnot_pd(sign_bit, vn)
+                        } else {
+                            _mm256_max_pd(vn, zero)
+                        },
                     ),
                     _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), vt_len), vt_len),
                 ),
             };
-            // sign · pressure + hydrostatic, with sign 1 and no buoyancy.
-            let p = _mm256_add_pd(pressure, zero);
+            // sign · pressure + hydrostatic.
+            let signed = if EXTRA && c.opposing {
+                let gt = _mm256_cmp_pd::<_CMP_GT_OQ>(vn, zero);
+                let lt = _mm256_cmp_pd::<_CMP_LT_OQ>(vn, zero);
+                let sign = _mm256_blendv_pd(_mm256_blendv_pd(zero, set(-1.0), lt), set(1.0), gt);
+                _mm256_mul_pd(sign, pressure)
+            } else {
+                _mm256_mul_pd(set(1.0), pressure)
+            };
+            let hydrostatic = if EXTRA && c.rho_g != 0.0 {
+                let zc = _mm256_add_pd(pos_z, dot_up(gx, gy, gz));
+                let depth = _mm256_xor_pd(zc, sign_bit);
+                _mm256_mul_pd(_mm256_mul_pd(rho_g, _mm256_max_pd(depth, zero)), area)
+            } else {
+                zero
+            };
+            let p = _mm256_add_pd(signed, hydrostatic);
             let neg = |x: __m256d| _mm256_xor_pd(x, sign_bit);
             let mut fx = _mm256_mul_pd(neg(nx), p);
             let mut fy = _mm256_mul_pd(neg(ny), p);
@@ -1320,6 +1447,22 @@ mod simd {
                 keep(_mm256_sub_pd(_mm256_mul_pd(gx, fy), _mm256_mul_pd(fx, gy))),
             );
             aa = _mm256_add_pd(aa, keep(area));
+            if let (true, Some(a)) = (EXTRA, c.axis) {
+                let pn = dot3(fx, fy, fz);
+                let (px, py, pz) = (
+                    _mm256_mul_pd(nx, pn),
+                    _mm256_mul_pd(ny, pn),
+                    _mm256_mul_pd(nz, pn),
+                );
+                let t0 = _mm256_sub_pd(_mm256_mul_pd(gy, pz), _mm256_mul_pd(py, gz));
+                let t1 = _mm256_sub_pd(_mm256_mul_pd(gz, px), _mm256_mul_pd(pz, gx));
+                let t2 = _mm256_sub_pd(_mm256_mul_pd(gx, py), _mm256_mul_pd(px, gy));
+                let ta = _mm256_add_pd(
+                    _mm256_add_pd(_mm256_mul_pd(t0, set(a.x)), _mm256_mul_pd(t1, set(a.y))),
+                    _mm256_mul_pd(t2, set(a.z)),
+                );
+                ax = _mm256_add_pd(ax, keep(ta));
+            }
             if c.record {
                 let mut out = [[0.0; 4]; 3];
                 let mut mask = [0.0; 4];
@@ -1332,7 +1475,7 @@ mod simd {
                 }
                 for l in 0..4 {
                     if mask[l].to_bits() != 0 {
-                        let j = i + l;
+                        let j = index(i + l);
                         let fl = DVec3::new(out[0][l], out[1][l], out[2][l]);
                         loads.push(c.load(f.centroid(j), fl, f.normal(j), f.area[j]));
                     }
@@ -1346,6 +1489,7 @@ mod simd {
             wr(&mut la.torque[k], at[k]);
         }
         wr(&mut la.area, aa);
+        wr(&mut la.axial, ax);
     }
 }
 
@@ -1720,8 +1864,8 @@ mod tests {
         let end = faces.len() / LANES * LANES;
         let mut seed = 12345u64;
         for law in ForceLaw::ALL {
-            for ventilated in [true, false] {
-                for spin in [false, true] {
+            for (ventilated, spin, extras) in (0..32u32).map(|k| (k & 1 != 0, k & 2 != 0, k >> 2)) {
+                {
                     let (lift, friction) = law.default_coefficients();
                     let hp = HydroParams {
                         law,
@@ -1730,13 +1874,13 @@ mod tests {
                         density: 1000.0,
                         ventilated,
                         pressure_centre: None,
-                        opposing: false,
-                        smooth_spin: false,
-                        rho_g: 0.0,
+                        opposing: extras & 1 != 0,
+                        smooth_spin: extras & 2 != 0,
+                        rho_g: if extras & 4 != 0 { 9810.0 } else { 0.0 },
                     };
                     let mut r = || 2.0 * rng(&mut seed) - 1.0;
                     let pose = Pose {
-                        position: DVec3::ZERO,
+                        position: DVec3::new(0.0, 0.0, -0.004),
                         velocity: DVec3::new(10.0 * r(), 2.0 * r(), -3.0 * r().abs()),
                         orientation: DQuat::IDENTITY,
                         angular_velocity: if spin {
@@ -1845,9 +1989,14 @@ mod tests {
                             v.extend(la.torque[k].map(f64::to_bits));
                         }
                         v.extend(la.area.map(f64::to_bits));
+                        v.extend(la.axial.map(f64::to_bits));
                         v
                     };
-                    assert_eq!(bits(&a), bits(&b), "{law:?} vent {ventilated} spin {spin}");
+                    assert_eq!(
+                        bits(&a),
+                        bits(&b),
+                        "{law:?} vent {ventilated} spin {spin} options {extras}"
+                    );
                     assert!(a.area.iter().sum::<f64>() > 0.0);
                 }
             }
