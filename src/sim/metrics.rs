@@ -125,6 +125,7 @@ mod tests {
             force_evals: 0,
             contacts,
             water: None,
+            diverged_reason: None,
         }
     }
 
