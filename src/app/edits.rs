@@ -194,7 +194,7 @@ mod tests {
         let d = section_differences(&p.physics, &physics);
         assert_eq!(d.len(), 2, "{d:?}");
         assert!(d.iter().any(|d| d.field == "gravity" && d.now == "1.62"));
-        let mut water = p.water.clone();
+        let mut water = p.water;
         water.size[0] += 5.0;
         let d = section_differences(&p.water, &water);
         assert_eq!(d.len(), 1, "{d:?}");

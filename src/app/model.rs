@@ -53,7 +53,7 @@ pub fn rest_due(finished: bool, since_outcome: f64, max_abs_eta: Option<f64>) ->
     if !finished {
         return false;
     }
-    let calm = max_abs_eta.map_or(true, |e| !e.is_finite() || e < ETA_VISIBLE);
+    let calm = max_abs_eta.is_none_or(|e| !e.is_finite() || e < ETA_VISIBLE);
     calm || since_outcome >= REST_AFTER
 }
 
@@ -400,7 +400,7 @@ impl Model {
         match section {
             Section::Launch => self.edit.launch = self.loaded.launch,
             Section::Stone => self.edit.stone = self.loaded.stone.clone(),
-            Section::Water => self.edit.water = self.loaded.water.clone(),
+            Section::Water => self.edit.water = self.loaded.water,
             Section::Physics => {
                 self.edit.physics = self.loaded.physics;
                 self.physics_edited();
@@ -917,7 +917,7 @@ impl Model {
     /// [`READOUT_HZ`] while animating).
     pub fn refresh_shown(&mut self) {
         let due = !self.animating()
-            || self.shown.at.map_or(true, |t| {
+            || self.shown.at.is_none_or(|t| {
                 t.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
                     && self.frames >= self.shown.frame + READOUT_MIN_FRAMES
             });

@@ -166,7 +166,7 @@ impl Trail {
             return;
         }
         let spacing = Self::SPACING * (1 + self.points.len() / Self::MAX_POINTS) as f32;
-        let far = self.last_kept.map_or(true, |q| q.distance(p) >= spacing);
+        let far = self.last_kept.is_none_or(|q| q.distance(p) >= spacing);
         let keep = far || sample.in_contact != self.last_contact;
         match (self.moving_end, self.points.last_mut()) {
             // The moving end (newest position) becomes a kept point, or moves on.

@@ -1207,7 +1207,7 @@ mod simd {
         la: &mut LaneAcc<4>,
         loads: &mut Vec<FaceLoad>,
     ) {
-        assert!(end <= f.len() && (end - start) % 4 == 0);
+        assert!(end <= f.len() && (end - start).is_multiple_of(4));
         let set = |x: f64| _mm256_set1_pd(x);
         let (vx0, vy0, vz0) = (set(c.v.x), set(c.v.y), set(c.v.z));
         let (wx, wy, wz) = (set(c.w.x), set(c.w.y), set(c.w.z));
