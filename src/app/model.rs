@@ -258,6 +258,8 @@ pub struct Model {
     /// The flat-water track of `edit`'s throw, and the lake edges it crosses (see [`lake`]).
     pub lake_track: Option<Rect>,
     pub lake_exit: Option<String>,
+    /// `edit` changed since the lake check (it costs a flat-water run: done once a drag ends).
+    pub lake_stale: bool,
     pub sim: Simulation,
     /// Changes whenever `sim` is rebuilt.
     pub generation: u64,
@@ -329,6 +331,7 @@ impl Model {
             loaded: preset.clone(),
             lake_track: None,
             lake_exit: None,
+            lake_stale: true,
             edit: preset,
             sim,
             generation: 0,
@@ -378,12 +381,17 @@ impl Model {
             m.view.render_scale = s;
         }
         m.start_run();
-        m.check_lake();
+        m.refresh_lake();
         Ok(m)
     }
 
-    /// Runs the edited throw on flat water and notes whether it would leave the lake.
-    pub fn check_lake(&mut self) {
+    /// Runs the edited throw on flat water and notes whether it would leave the lake, if the
+    /// edit changed since the last check.
+    pub fn refresh_lake(&mut self) {
+        if !self.lake_stale {
+            return;
+        }
+        self.lake_stale = false;
         self.lake_track = None;
         self.lake_exit = None;
         let Some(rect) = lake::lake_rect(&self.edit) else {
@@ -412,6 +420,7 @@ impl Model {
 
     /// Fits the lake to the edited throw (cell size kept), or says why not.
     pub fn fit_lake(&mut self) {
+        self.refresh_lake();
         let Some(track) = self.lake_track else {
             return;
         };
@@ -419,6 +428,7 @@ impl Model {
             Ok(p) => {
                 self.edit.water = p.water;
                 self.scene_edited();
+                self.refresh_lake();
                 let w = &self.edit.water;
                 self.post(Message::info(format!(
                     "lake fitted to the throw: {:.1} × {:.1} m in {:.1} cm cells ({:.2} million \
@@ -769,7 +779,7 @@ impl Model {
                     self.view_mode = ViewMode::Behind;
                     self.camera = Camera::default_for(&self.edit);
                     self.invalid = None;
-                    self.check_lake();
+                    self.lake_stale = true;
                     Message::info(format!("loaded {}", path.display()))
                 }
                 Err(e) => Message::error(format!("{}: {e}", path.display())),
@@ -876,7 +886,7 @@ impl Model {
             Ok(()) => {
                 self.invalid = None;
                 self.warnings = setup_warnings(&self.edit);
-                self.check_lake();
+                self.lake_stale = true;
                 if self.phase == Phase::Ready {
                     // Nothing thrown yet: show the change at once.
                     let preset = self.edit.clone();
@@ -896,7 +906,7 @@ impl Model {
             Ok(()) => {
                 self.invalid = None;
                 self.warnings = setup_warnings(&self.edit);
-                self.check_lake();
+                self.lake_stale = true;
                 let physics = self.edit.physics;
                 match self.sim.set_physics(physics) {
                     Ok(()) => {
@@ -1115,6 +1125,7 @@ mod tests {
         let v = DVec3::from_array(m.edit.launch.velocity);
         m.edit.launch.velocity = (v * 1.5).to_array();
         m.handle(Action::SceneEdited);
+        m.refresh_lake();
         let exit = m.lake_exit.clone().expect("no warning");
         assert!(exit.contains("far"), "{exit} (before: {within:?})");
         m.handle(Action::FitLake);
@@ -1124,6 +1135,7 @@ mod tests {
         // The launch and the water now differ from the loaded preset; revert puts them back.
         m.handle(Action::Revert(Section::Launch));
         m.handle(Action::Revert(Section::Water));
+        m.refresh_lake();
         assert_eq!(m.edit.launch, p.launch);
         assert_eq!(m.edit.water, p.water);
         assert_eq!(m.lake_exit, within);

@@ -75,6 +75,10 @@ impl Model {
             self.shortcuts_ui(&ctx, actions);
         }
         self.refresh_shown();
+        // The lake check runs the throw on flat water: once a drag has ended, not every frame.
+        if self.lake_stale && !ctx.input(|i| i.pointer.any_down()) {
+            self.refresh_lake();
+        }
         if self.status.as_ref().is_some_and(|s| s.expired()) {
             self.status = None;
             // The presets panel's copy of the message goes with it.
