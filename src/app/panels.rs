@@ -36,7 +36,7 @@ fn changes_ui(
     ui.horizontal_wrapped(|ui| {
         let n = changed.len();
         let s = if n == 1 { "" } else { "s" };
-        ui.colored_label(CHANGED, format!("● {n} value{s} changed from the preset"));
+        ui.colored_label(CHANGED, format!("• {n} value{s} changed from the preset"));
         if ui
             .small_button("Revert to preset")
             .on_hover_text("Put this panel back to the loaded preset's values")
@@ -48,7 +48,7 @@ fn changes_ui(
     ui.horizontal_wrapped(|ui| {
         for d in changed {
             ui.label(
-                RichText::new(format!("● {} {}", d.field, d.now))
+                RichText::new(format!("• {} {}", d.field, d.now))
                     .small()
                     .color(CHANGED),
             )
@@ -215,7 +215,7 @@ impl Model {
             if changed.is_empty() {
                 RichText::new(s).heading()
             } else {
-                RichText::new(format!("{s} ●")).heading()
+                RichText::new(format!("{s} •")).heading()
             }
         };
         let d_launch = launch_differences(&self.loaded.launch, &self.edit.launch);
@@ -293,7 +293,7 @@ impl Model {
             return;
         };
         let text = format!(
-            "⚠ This throw would leave the lake by its {edges} edge: on flat water it runs over \
+            "This throw would leave the lake by its {edges} edge: on flat water it runs over \
              x {:.1}…{:.1} m, y {:.1}…{:.1} m.",
             track.lo[0], track.hi[0], track.lo[1], track.hi[1]
         );
