@@ -430,9 +430,14 @@ impl Model {
                 self.scene_edited();
                 self.refresh_lake();
                 let w = &self.edit.water;
+                let when = if self.pending_changes {
+                    ", applied on the next throw or reset"
+                } else {
+                    ""
+                };
                 self.post(Message::info(format!(
                     "lake fitted to the throw: {:.1} × {:.1} m in {:.1} cm cells ({:.2} million \
-                     columns), applied on the next throw",
+                     columns){when}",
                     w.size[0],
                     w.size[1],
                     w.cell * 100.0,
