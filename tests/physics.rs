@@ -283,7 +283,7 @@ fn steps_report_the_forces_at_their_end() {
         let mut sim = Simulation::new(&p).unwrap();
         let hydro = HydroParams::from_physics(&p.physics);
         let mut samples = Vec::new();
-        while !sim.contacts().first().is_some_and(|c| !c.open) && !sim.is_finished() {
+        while sim.contacts().first().is_none_or(|c| c.open) && !sim.is_finished() {
             sim.tick_with(&mut |s| samples.push(*s));
         }
         let mut scratch = Scratch::default();

@@ -337,10 +337,17 @@ fn side_view_at_10x_shows_the_whole_trajectory_above_the_waterline() {
         water_px.y > 0.0 && water_px.y < H as f32,
         "waterline at {water_px:?}"
     );
+    // Released level, the launch is the first arc's top: the trail reaches its height as projected
+    // (3 m at 10×), which stands well clear of the waterline.
+    let launch_px = cam.project(launch, W, H).unwrap();
     assert!(
-        water_px.y - (y0 as f32) > 0.2 * H as f32,
-        "the trajectory's top {y0} is not well above the waterline at {}",
-        water_px.y
+        water_px.y - launch_px.y > 0.1 * H as f32,
+        "the launch at {launch_px:?} is not well above the waterline at {water_px:?}"
+    );
+    assert!(
+        (y0 as f32) < launch_px.y + 3.0,
+        "the trajectory's top {y0} is below the launch at {}",
+        launch_px.y
     );
     // The launch and the end point both project inside the picture.
     let end = state.sim.state().position.as_vec3();
@@ -393,8 +400,20 @@ fn follow_view_shows_the_stone_large_in_the_middle() {
     none.stone = None;
     let without = off.render(&none, W, H).unwrap();
     let (n, (x0, x1), (y0, y1)) = changed(&with, &without, 20);
-    // The chase camera is close: the stone covers a good patch near the centre.
-    assert!(n > 400, "the stone covers only {n} pixels");
+    // The chase camera is close: the stone covers a good patch near the centre, at least half
+    // of its face's projected ellipse (a: its radius over the distance in pixels, b: a times the
+    // sine of the angle between the line of sight and the face); the thin rim shows little.
+    let stone = scene.stone.as_ref().unwrap();
+    let to_eye = scene.camera.eye_world() - stone.position.as_vec3();
+    let normal = (stone.orientation * glam::DVec3::Z).as_vec3();
+    let f_px = 0.5 * H as f32 / (0.5 * scene.camera.fov_y).tan();
+    let a = stone.radius as f32 / to_eye.length() * f_px;
+    let b = a * normal.dot(to_eye.normalize()).abs();
+    let ellipse = std::f32::consts::PI * a * b;
+    assert!(
+        n as f32 > 0.5 * ellipse && n > 150,
+        "the stone covers only {n} pixels (its face projects to {ellipse:.0})"
+    );
     let (cx, cy) = ((x0 + x1) as f32 / 2.0, (y0 + y1) as f32 / 2.0);
     assert!(
         (cx - W as f32 / 2.0).abs() < 0.2 * W as f32,
@@ -485,5 +504,79 @@ fn the_render_command_draws_every_camera() {
                 "views {i} and {j} look alike"
             );
         }
+    }
+}
+
+/// Sand, the rim's colour: red above green, both well above blue (water and sky are blue-grey,
+/// the skip ticks green).
+fn sandy(p: &image::Rgba<u8>) -> bool {
+    p[0] > 150 && p[1] > 100 && p[0] >= p[1] && p[0] as i32 - p[2] as i32 > 70
+}
+
+#[test]
+fn the_lakes_edges_show_as_a_sand_rim_in_every_camera() {
+    let Some(mut off) = offscreen() else { return };
+    let state = finished_default();
+    let water = state.sim.water().expect("the default has a lake");
+    let (o, c) = (water.origin(), water.cell());
+    let hi = [o[0] + water.nx() as f64 * c, o[1] + water.ny() as f64 * c];
+    let aspect = W as f32 / H as f32;
+    for view in [
+        ViewMode::Behind,
+        ViewMode::Top,
+        ViewMode::Side,
+        ViewMode::Follow,
+    ] {
+        // No trail or markers: the trail is yellow too.
+        let style = SceneStyle {
+            show_trail: false,
+            show_markers: false,
+            ..SceneStyle::default()
+        };
+        let scene = state.scene_for_view(style, view, 10.0, aspect);
+        let rim = stoneskip::render::build::lake_rim(o, hi);
+        assert!(
+            rim.iter().all(|l| scene.lines.contains(l)),
+            "{view:?}: the scene lacks the rim"
+        );
+        let with = off.render(&scene, W, H).unwrap();
+        let mut bare = scene.clone();
+        bare.lines.retain(|l| !rim.contains(l));
+        let without = off.render(&bare, W, H).unwrap();
+        // The rim's pixels: changed, sand-coloured, and near where the camera projects an edge.
+        let near_edge = |x: u32, y: u32| {
+            rim.iter().any(|l| {
+                (0..=64).any(|k| {
+                    let p = l.a.lerp(l.b, k as f32 / 64.0);
+                    scene.camera.project(p, W, H).is_some_and(|q| {
+                        (q.x - x as f32).abs() < 6.0 && (q.y - y as f32).abs() < 6.0
+                    })
+                })
+            })
+        };
+        let (mut rim_px, mut stray) = (0, 0);
+        for (x, y, p) in with.enumerate_pixels() {
+            let q = without.get_pixel(x, y);
+            if (0..3).any(|ch| p[ch].abs_diff(q[ch]) > 30) {
+                if sandy(p) && near_edge(x, y) {
+                    rim_px += 1;
+                } else if !sandy(p) {
+                    stray += 1;
+                }
+            }
+        }
+        // The rest is the line's antialiased fringe, and in the side view the waterline over it.
+        eprintln!("{view:?}: {rim_px} rim pixels, {stray} other changed");
+
+        assert!(rim_px >= 40, "{view:?}: only {rim_px} rim pixels");
+        // Nothing sand-coloured along the edges without the rim: the rim is what shows.
+        let sand_bare = without
+            .enumerate_pixels()
+            .filter(|(x, y, p)| sandy(p) && near_edge(*x, *y))
+            .count();
+        assert!(
+            sand_bare * 10 < rim_px,
+            "{view:?}: {sand_bare} sand pixels without the rim"
+        );
     }
 }

@@ -211,7 +211,7 @@ fn draw(
         // Everything is drawn into an ordinary texture, then copied to the window by a
         // write-only pass: blending straight into a software swapchain image reads it back, which
         // lavapipe makes very slow (the panels cost 5× more).
-        let fresh_canvas = gfx.canvas.as_ref().map_or(true, |(s, _, _)| *s != size);
+        let fresh_canvas = gfx.canvas.as_ref().is_none_or(|(s, _, _)| *s != size);
         let (canvas_tex, canvas) = canvas_view(gfx, size);
         // Software rasterisers without MSAA redraw only the 3D view while the panels are unchanged.
         let fingerprint = ui_fingerprint(prims, ppp, model.view_rect);

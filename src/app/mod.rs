@@ -14,8 +14,10 @@
 //! - `platform`: the window, the surface and the event loop.
 
 pub mod clock;
+pub mod edits;
 pub mod files;
 mod frame;
+pub mod lake;
 pub mod model;
 pub mod options;
 mod overlays;

@@ -12,6 +12,7 @@ use glam::{DQuat, DVec3, Vec2, Vec3};
 
 use super::clock::FixedClock;
 use super::files;
+use super::lake::{self, Rect};
 use super::options::Options;
 use super::replay::ReplayLog;
 use crate::preset;
@@ -22,7 +23,7 @@ use crate::sim::params::{Integrator, Launch, Preset};
 use crate::sim::{Outcome, Simulation, StepSample};
 use crate::ui::{
     contact_kind, slide_distance, Action, ContactKind, FrameTiming, Message, Phase, PlotSeries,
-    PresetLibrary, Readouts, ViewRequest, ViewSettings,
+    PresetLibrary, Readouts, Section, ViewRequest, ViewSettings,
 };
 
 /// Most simulated time one frame may run (s, at the highest playback speed); the rest is skipped.
@@ -52,7 +53,7 @@ pub fn rest_due(finished: bool, since_outcome: f64, max_abs_eta: Option<f64>) ->
     if !finished {
         return false;
     }
-    let calm = max_abs_eta.map_or(true, |e| !e.is_finite() || e < ETA_VISIBLE);
+    let calm = max_abs_eta.is_none_or(|e| !e.is_finite() || e < ETA_VISIBLE);
     calm || since_outcome >= REST_AFTER
 }
 
@@ -252,6 +253,13 @@ pub enum Shot {
 pub struct Model {
     /// The settings the panels edit.
     pub edit: Preset,
+    /// The preset as loaded (or saved): what the panels mark differences from.
+    pub loaded: Preset,
+    /// The flat-water track of `edit`'s throw, and the lake edges it crosses (see [`lake`]).
+    pub lake_track: Option<Rect>,
+    pub lake_exit: Option<String>,
+    /// `edit` changed since the lake check (it costs a flat-water run: done once a drag ends).
+    pub lake_stale: bool,
     pub sim: Simulation,
     /// Changes whenever `sim` is rebuilt.
     pub generation: u64,
@@ -320,6 +328,10 @@ impl Model {
         let mut m = Self {
             warnings: setup_warnings(&preset),
             notices: Vec::new(),
+            loaded: preset.clone(),
+            lake_track: None,
+            lake_exit: None,
+            lake_stale: true,
             edit: preset,
             sim,
             generation: 0,
@@ -369,7 +381,71 @@ impl Model {
             m.view.render_scale = s;
         }
         m.start_run();
+        m.refresh_lake();
         Ok(m)
+    }
+
+    /// Runs the edited throw on flat water and notes whether it would leave the lake, if the
+    /// edit changed since the last check.
+    pub fn refresh_lake(&mut self) {
+        if !self.lake_stale {
+            return;
+        }
+        self.lake_stale = false;
+        self.lake_track = None;
+        self.lake_exit = None;
+        let Some(rect) = lake::lake_rect(&self.edit) else {
+            return;
+        };
+        if let Ok(track) = lake::flat_track(&self.edit) {
+            self.lake_exit = lake::leaves_lake(track, rect, lake::WARN_MARGIN);
+            self.lake_track = Some(track);
+        }
+    }
+
+    /// Puts one panel's values back to the loaded preset's.
+    pub fn revert(&mut self, section: Section) {
+        match section {
+            Section::Launch => self.edit.launch = self.loaded.launch,
+            Section::Stone => self.edit.stone = self.loaded.stone.clone(),
+            Section::Water => self.edit.water = self.loaded.water,
+            Section::Physics => {
+                self.edit.physics = self.loaded.physics;
+                self.physics_edited();
+                return;
+            }
+        }
+        self.scene_edited();
+    }
+
+    /// Fits the lake to the edited throw (cell size kept), or says why not.
+    pub fn fit_lake(&mut self) {
+        self.refresh_lake();
+        let Some(track) = self.lake_track else {
+            return;
+        };
+        match lake::fit_lake(&self.edit, track) {
+            Ok(p) => {
+                self.edit.water = p.water;
+                self.scene_edited();
+                self.refresh_lake();
+                let w = &self.edit.water;
+                let when = if self.pending_changes {
+                    ", applied on the next throw or reset"
+                } else {
+                    ""
+                };
+                self.post(Message::info(format!(
+                    "lake fitted to the throw: {:.1} × {:.1} m in {:.1} cm cells ({:.2} million \
+                     columns){when}",
+                    w.size[0],
+                    w.size[1],
+                    w.cell * 100.0,
+                    (w.size[0] / w.cell).round() * (w.size[1] / w.cell).round() / 1e6
+                )));
+            }
+            Err(e) => self.post(Message::error(format!("lake not fitted: {e}"))),
+        }
     }
 
     /// The window's title: the loaded preset's name.
@@ -608,7 +684,12 @@ impl Model {
             self.style(),
         );
         if self.view_mode == ViewMode::Side {
-            scene.lines = side_guides(&self.framing(), self.sim.contacts(), &self.camera);
+            // The lake's rim stays; the side view's guides replace nothing else.
+            scene.lines.extend(side_guides(
+                &self.framing(),
+                self.sim.contacts(),
+                &self.camera,
+            ));
         }
         if self.phase == Phase::Ready && self.invalid.is_none() {
             scene.lines.extend(aim_preview(self.sim.preset()));
@@ -693,6 +774,7 @@ impl Model {
         let message = match preset::load(path) {
             Ok(p) => match Simulation::new(&p) {
                 Ok(_) => {
+                    self.loaded = p.clone();
                     self.edit = p;
                     self.library.current = Some(path.to_owned());
                     self.library.save_name = self.edit.name.clone();
@@ -702,6 +784,7 @@ impl Model {
                     self.view_mode = ViewMode::Behind;
                     self.camera = Camera::default_for(&self.edit);
                     self.invalid = None;
+                    self.lake_stale = true;
                     Message::info(format!("loaded {}", path.display()))
                 }
                 Err(e) => Message::error(format!("{}: {e}", path.display())),
@@ -728,7 +811,8 @@ impl Model {
             .and_then(|()| preset::save(&path, &p).map_err(|e| e.to_string()));
         match result {
             Ok(()) => {
-                self.edit.name = p.name;
+                self.edit.name = p.name.clone();
+                self.loaded = p;
                 self.library.current = Some(path.clone());
                 self.library.refresh();
                 self.library.message = Some(Message::info(format!("saved {}", path.display())));
@@ -782,6 +866,8 @@ impl Model {
             }
             Action::SceneEdited => self.scene_edited(),
             Action::PhysicsEdited => self.physics_edited(),
+            Action::FitLake => self.fit_lake(),
+            Action::Revert(section) => self.revert(section),
         }
     }
 
@@ -805,6 +891,7 @@ impl Model {
             Ok(()) => {
                 self.invalid = None;
                 self.warnings = setup_warnings(&self.edit);
+                self.lake_stale = true;
                 if self.phase == Phase::Ready {
                     // Nothing thrown yet: show the change at once.
                     let preset = self.edit.clone();
@@ -824,6 +911,7 @@ impl Model {
             Ok(()) => {
                 self.invalid = None;
                 self.warnings = setup_warnings(&self.edit);
+                self.lake_stale = true;
                 let physics = self.edit.physics;
                 match self.sim.set_physics(physics) {
                     Ok(()) => {
@@ -844,7 +932,7 @@ impl Model {
     /// [`READOUT_HZ`] while animating).
     pub fn refresh_shown(&mut self) {
         let due = !self.animating()
-            || self.shown.at.map_or(true, |t| {
+            || self.shown.at.is_none_or(|t| {
                 t.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
                     && self.frames >= self.shown.frame + READOUT_MIN_FRAMES
             });
@@ -1029,5 +1117,32 @@ mod tests {
         assert!(r.velocity[1] < 0.0);
         // A click is not a throw.
         assert_eq!(gesture_launch(&base, Vec2::new(1.0, 1.0), 600.0, 0.0), base);
+    }
+
+    #[test]
+    fn a_throw_that_would_leave_the_lake_is_told_and_fitted() {
+        let mut p = Preset::default();
+        p.water.size = [10.0, 3.0];
+        p.water.cell = 0.05;
+        let mut m = Model::new(p.clone(), None, Options::default()).unwrap();
+        let within = m.lake_exit.clone();
+        // Faster: the flat-water track now runs past the far edge.
+        let v = DVec3::from_array(m.edit.launch.velocity);
+        m.edit.launch.velocity = (v * 1.5).to_array();
+        m.handle(Action::SceneEdited);
+        m.refresh_lake();
+        let exit = m.lake_exit.clone().expect("no warning");
+        assert!(exit.contains("far"), "{exit} (before: {within:?})");
+        m.handle(Action::FitLake);
+        assert_eq!(m.lake_exit, None, "still leaves after the fit");
+        assert_eq!(m.edit.water.cell, 0.05);
+        assert!(m.edit.water.size[0] > 10.0);
+        // The launch and the water now differ from the loaded preset; revert puts them back.
+        m.handle(Action::Revert(Section::Launch));
+        m.handle(Action::Revert(Section::Water));
+        m.refresh_lake();
+        assert_eq!(m.edit.launch, p.launch);
+        assert_eq!(m.edit.water, p.water);
+        assert_eq!(m.lake_exit, within);
     }
 }

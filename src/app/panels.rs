@@ -7,14 +7,55 @@ use std::time::Instant;
 use egui::{Color32, RichText};
 use glam::Vec2;
 
+use super::edits::{launch_differences, section_differences, Difference};
+use super::lake;
 use super::model::{gesture_launch, Model};
 use crate::render::build::ghost_color;
 use crate::render::camera::{ViewMode, EXAGGERATIONS};
 use crate::sim::params::Rotation;
-use crate::ui::{self, Action, GhostRow, Phase, SimControls, ViewRequest};
+use crate::ui::{self, Action, GhostRow, Phase, Section, SimControls, ViewRequest};
 
 /// Pointer within this many points of the stone starts a throw gesture (before a throw).
 pub const GESTURE_GRAB_RADIUS: f32 = 48.0;
+
+/// The colour of a value that differs from the loaded preset, and of a warning.
+const CHANGED: Color32 = Color32::from_rgb(255, 190, 90);
+const WARN: Color32 = Color32::from_rgb(255, 150, 90);
+
+/// Marks a panel's values that differ from the loaded preset (the preset's value on hover) and
+/// offers to revert the panel.
+fn changes_ui(
+    ui: &mut egui::Ui,
+    changed: &[Difference],
+    section: Section,
+    actions: &mut Vec<Action>,
+) {
+    if changed.is_empty() {
+        return;
+    }
+    ui.horizontal_wrapped(|ui| {
+        let n = changed.len();
+        let s = if n == 1 { "" } else { "s" };
+        ui.colored_label(CHANGED, format!("• {n} value{s} changed from the preset"));
+        if ui
+            .small_button("Revert to preset")
+            .on_hover_text("Put this panel back to the loaded preset's values")
+            .clicked()
+        {
+            actions.push(Action::Revert(section));
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        for d in changed {
+            ui.label(
+                RichText::new(format!("• {} {}", d.field, d.now))
+                    .small()
+                    .color(CHANGED),
+            )
+            .on_hover_text(format!("preset: {}", d.preset));
+        }
+    });
+}
 
 fn request_of(mode: ViewMode) -> Option<ViewRequest> {
     match mode {
@@ -34,6 +75,10 @@ impl Model {
             self.shortcuts_ui(&ctx, actions);
         }
         self.refresh_shown();
+        // The lake check runs the throw on flat water: once a drag has ended, not every frame.
+        if self.lake_stale && !ctx.input(|i| i.pointer.any_down()) {
+            self.refresh_lake();
+        }
         if self.status.as_ref().is_some_and(|s| s.expired()) {
             self.status = None;
             // The presets panel's copy of the message goes with it.
@@ -166,10 +211,23 @@ impl Model {
     }
 
     fn settings_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
-        let head = |s: &str| RichText::new(s).heading();
-        egui::CollapsingHeader::new(head("Launch"))
+        let head = |s: &str, changed: &[Difference]| {
+            if changed.is_empty() {
+                RichText::new(s).heading()
+            } else {
+                RichText::new(format!("{s} •")).heading()
+            }
+        };
+        let d_launch = launch_differences(&self.loaded.launch, &self.edit.launch);
+        let d_stone = section_differences(&self.loaded.stone, &self.edit.stone);
+        let d_physics = section_differences(&self.loaded.physics, &self.edit.physics);
+        let d_water = section_differences(&self.loaded.water, &self.edit.water);
+        egui::CollapsingHeader::new(head("Launch", &d_launch))
+            .id_salt("launch_panel")
             .default_open(true)
             .show(ui, |ui| {
+                changes_ui(ui, &d_launch, Section::Launch, actions);
+                self.lake_exit_ui(ui, actions);
                 if ui::launch_ui(ui, &mut self.edit.launch) {
                     actions.push(Action::SceneEdited);
                 }
@@ -188,38 +246,79 @@ impl Model {
                     });
                 }
             });
-        egui::CollapsingHeader::new(head("Stone"))
+        egui::CollapsingHeader::new(head("Stone", &d_stone))
+            .id_salt("stone_panel")
             .default_open(true)
             .show(ui, |ui| {
+                changes_ui(ui, &d_stone, Section::Stone, actions);
                 if ui::stone_ui(ui, &mut self.edit.stone) {
                     actions.push(Action::SceneEdited);
                 }
             });
-        egui::CollapsingHeader::new(head("Physics"))
+        egui::CollapsingHeader::new(head("Physics", &d_physics))
+            .id_salt("physics_panel")
             .default_open(false)
             .show(ui, |ui| {
+                changes_ui(ui, &d_physics, Section::Physics, actions);
                 ui.weak("Applied live, at the next step.");
                 if ui::physics_ui(ui, &mut self.edit.physics) {
                     actions.push(Action::PhysicsEdited);
                 }
             });
-        egui::CollapsingHeader::new(head("Water"))
+        egui::CollapsingHeader::new(head("Water", &d_water))
+            .id_salt("water_panel")
             .default_open(false)
             .show(ui, |ui| {
+                changes_ui(ui, &d_water, Section::Water, actions);
+                self.lake_exit_ui(ui, actions);
                 ui.weak("Needs a new simulation: applied on the next throw or reset.");
                 if ui::water_ui(ui, &mut self.edit.water) {
                     actions.push(Action::SceneEdited);
                 }
             });
-        egui::CollapsingHeader::new(head("Presets"))
+        egui::CollapsingHeader::new(head("Presets", &[]))
             .default_open(true)
             .show(ui, |ui| {
                 let can_replay = self.replay_log.can_replay();
                 ui::presets_ui(ui, &mut self.library, can_replay, actions);
             });
-        egui::CollapsingHeader::new(head("Display"))
+        egui::CollapsingHeader::new(head("Display", &[]))
             .default_open(false)
             .show(ui, |ui| ui::display_ui(ui, &mut self.view));
+    }
+
+    /// The edited throw would leave the lake: say so before the throw, offer the fit.
+    fn lake_exit_ui(&self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+        let (Some(edges), Some(track)) = (&self.lake_exit, self.lake_track) else {
+            return;
+        };
+        let text = format!(
+            "This throw would leave the lake by its {edges} edge: on flat water it runs over \
+             x {:.1}…{:.1} m, y {:.1}…{:.1} m.",
+            track.lo[0], track.hi[0], track.lo[1], track.hi[1]
+        );
+        let lake = lake::lake_rect(&self.edit);
+        let tip = lake.map_or_else(String::new, |r| {
+            format!(
+                "The lake spans x {:.1}…{:.1} m, y {:.1}…{:.1} m. Fitting adds {:.0} m of water on \
+                 every side of the flat-water track and keeps the cell size.",
+                r.lo[0],
+                r.hi[0],
+                r.lo[1],
+                r.hi[1],
+                lake::FIT_MARGIN
+            )
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.colored_label(WARN, text).on_hover_text(&tip);
+            if ui
+                .small_button("Fit the lake to the throw")
+                .on_hover_text(&tip)
+                .clicked()
+            {
+                actions.push(Action::FitLake);
+            }
+        });
     }
 
     fn readouts_ui(&mut self, ui: &mut egui::Ui, adapter: &str, actions: &mut Vec<Action>) {

@@ -42,6 +42,14 @@ pub fn scene_of<'a>(
         })
     });
     let t = sim.time();
+    let lines = sim
+        .water()
+        .map(|w| {
+            let (o, c) = (w.origin(), w.cell());
+            let hi = [o[0] + w.nx() as f64 * c, o[1] + w.ny() as f64 * c];
+            lake_rim(o, hi)
+        })
+        .unwrap_or_default();
     Scene {
         camera,
         time: t,
@@ -50,9 +58,45 @@ pub fn scene_of<'a>(
         trail: trail.points(),
         markers: markers_of(sim.contacts()),
         splashes: splashes_of(sim.contacts(), t),
-        lines: Vec::new(),
+        lines,
         style,
     }
+}
+
+/// The colour of the lake's rim: sand, unlike water or sky.
+pub const RIM_COLOR: [f32; 4] = [0.95, 0.78, 0.35, 1.0];
+
+/// Longest piece of the rim (m).
+pub const RIM_PIECE: f32 = 0.5;
+
+/// The lake's edges: a sand-coloured shore line around the water grid (`lo` its −x, −y corner,
+/// `hi` the +x, +y one) with short posts at the corners, so the edge shows in every camera.
+pub fn lake_rim(lo: [f64; 2], hi: [f64; 2]) -> Vec<Line> {
+    let corners = [
+        Vec3::new(lo[0] as f32, lo[1] as f32, 0.0),
+        Vec3::new(hi[0] as f32, lo[1] as f32, 0.0),
+        Vec3::new(hi[0] as f32, hi[1] as f32, 0.0),
+        Vec3::new(lo[0] as f32, hi[1] as f32, 0.0),
+    ];
+    // In pieces of at most RIM_PIECE: a chase camera stands inside the rectangle, and a line
+    // with an end behind the eye is not drawn.
+    let edges = (0..4).flat_map(|k| {
+        let (a, b) = (corners[k], corners[(k + 1) % 4]);
+        let n = ((a.distance(b) / RIM_PIECE).ceil() as usize).clamp(1, 4096);
+        (0..n).map(move |i| Line {
+            a: a.lerp(b, i as f32 / n as f32),
+            b: a.lerp(b, (i + 1) as f32 / n as f32),
+            width_px: 3.0,
+            color: RIM_COLOR,
+        })
+    });
+    let posts = corners.into_iter().map(|c| Line {
+        a: c,
+        b: c + Vec3::Z * 0.5,
+        width_px: 3.0,
+        color: RIM_COLOR,
+    });
+    edges.chain(posts).collect()
 }
 
 /// One marker per contact episode.
@@ -122,7 +166,7 @@ impl Trail {
             return;
         }
         let spacing = Self::SPACING * (1 + self.points.len() / Self::MAX_POINTS) as f32;
-        let far = self.last_kept.map_or(true, |q| q.distance(p) >= spacing);
+        let far = self.last_kept.is_none_or(|q| q.distance(p) >= spacing);
         let keep = far || sample.in_contact != self.last_contact;
         match (self.moving_end, self.points.last_mut()) {
             // The moving end (newest position) becomes a kept point, or moves on.

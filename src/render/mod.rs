@@ -108,7 +108,9 @@ impl SimulatedScene {
             .unwrap_or_else(|| Camera::default_for(self.sim.preset()));
         let mut scene = build::scene_of(&self.sim, None, &self.trail, &self.heights, camera, style);
         if view == ViewMode::Side {
-            scene.lines = build::side_guides(&framing, self.sim.contacts(), &camera);
+            scene
+                .lines
+                .extend(build::side_guides(&framing, self.sim.contacts(), &camera));
         }
         scene
     }

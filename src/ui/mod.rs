@@ -53,6 +53,19 @@ pub enum Action {
     SceneEdited,
     /// The physical constants changed: applied live.
     PhysicsEdited,
+    /// Resize the lake to the edited throw's flat-water track (plus a margin, same cells).
+    FitLake,
+    /// Put one settings panel back to the loaded preset's values.
+    Revert(Section),
+}
+
+/// A settings panel that edits one section of the preset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Section {
+    Launch,
+    Stone,
+    Physics,
+    Water,
 }
 
 /// Camera requests.

@@ -187,7 +187,7 @@ impl WaterPass {
         if self
             .textures
             .as_ref()
-            .map_or(true, |w| w.grid != (wv.nx, wv.ny))
+            .is_none_or(|w| w.grid != (wv.nx, wv.ny))
         {
             self.textures = Some(self.make_textures(device, shared, wv.nx, wv.ny));
         }
