@@ -3,6 +3,8 @@
 //! with an outcome within its ticks; the work per tick stays under the stepper's own bound. To keep
 //! each run short, `max_time` is capped at 0.25 s and the lake at 2–4 m (cells of 2 cm or more).
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use arbitrary::{Result, Unstructured};
 use stoneskip::sim::params::{
     ForceLaw, Integrator, Limiter, Precision, Preset, PressureCentre, Rotation, Shape, Swell,
@@ -137,6 +139,9 @@ fn preset(u: &mut Unstructured) -> Result<Preset> {
     Ok(p)
 }
 
+/// The largest force evaluations per simulated second seen in this process (f64 bits).
+static WORST: AtomicU64 = AtomicU64::new(0);
+
 /// The stepper's own bound on the work of one tick: at most 10⁶ steps (its guard), each at most
 /// a Dormand–Prince attempt (7 evaluations) plus the event location's (a few more).
 const MAX_EVALS_PER_TICK: u64 = 10 * 1_000_000;
@@ -182,6 +187,26 @@ pub fn run(data: &[u8]) {
         }
     }
     assert!(sim.is_finished(), "no outcome after {ticks} ticks\n{p:?}");
+    // The costliest run so far, in force evaluations per simulated second: printed when beaten, so
+    // a campaign's log shows the worst case it found (a cost, not a failure).
+    let per_s = sim.cost().1 as f64 / sim.time().max(1e-9);
+    if per_s > f64::from_bits(WORST.load(Ordering::Relaxed)) {
+        WORST.store(per_s.to_bits(), Ordering::Relaxed);
+        eprintln!(
+            "worst cost so far: {per_s:.3e} force evaluations per simulated second ({} in {} s)",
+            sim.cost().1,
+            sim.time()
+        );
+    }
+    if std::env::var_os("STONESKIP_FUZZ_TRACE").is_some() {
+        eprintln!(
+            "{p:?}\n{:?} after {} s: {} steps, {} force evaluations",
+            sim.outcome(),
+            sim.time(),
+            sim.cost().0,
+            sim.cost().1
+        );
+    }
     let summary = sim.summary();
     assert!(
         summary.distance.is_finite() && summary.final_time.is_finite(),
