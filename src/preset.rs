@@ -114,8 +114,11 @@ pub fn to_ron_string(preset: &Preset) -> Result<String, ron::Error> {
     ron::ser::to_string_pretty(preset, config)
 }
 
-/// Saves a preset atomically: write a temporary file beside the target, flush it to disk, then
-/// rename it over the target. On error the old file is untouched.
+/// Saves a preset atomically: write a temporary file beside the target and flush it to disk, rename
+/// it over the target, then flush the folder so the rename itself is on disk. A crash or a kill at
+/// any moment leaves the old file or the new one, never a mix (after a kill a hidden
+/// `.NAME.tmp-PID` file may remain). On error the old file is untouched and the message says why
+/// (a read-only folder, a full disk) in one line.
 pub fn save(path: &Path, preset: &Preset) -> Result<(), PresetError> {
     let fail = |message: String| PresetError::Write {
         path: path.to_owned(),
@@ -135,18 +138,56 @@ pub fn save(path: &Path, preset: &Preset) -> Result<(), PresetError> {
         file_name.to_string_lossy(),
         std::process::id()
     ));
-    let result = (|| -> std::io::Result<()> {
+    let written = (|| -> std::io::Result<()> {
         let mut f = fs::File::create(&tmp)?;
         f.write_all(text.as_bytes())?;
         f.write_all(b"\n")?;
         f.sync_all()?;
         fs::rename(&tmp, path)
     })();
-    if let Err(e) = result {
+    if let Err(e) = written {
         // Best effort: the temporary file may not exist.
         let _ = fs::remove_file(&tmp);
-        return Err(fail(e.to_string()));
+        return Err(fail(format!(
+            "{}; the existing file, if any, is unchanged",
+            io_reason(&e, dir)
+        )));
     }
+    sync_dir(dir).map_err(|e| {
+        fail(format!(
+            "the new preset replaced the old one, but the folder could not be flushed to disk: {e}"
+        ))
+    })
+}
+
+/// Why a write into `dir` failed, in words.
+fn io_reason(e: &std::io::Error, dir: &Path) -> String {
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::PermissionDenied | K::ReadOnlyFilesystem => {
+            format!("the folder {} is not writable ({e})", dir.display())
+        }
+        K::StorageFull | K::FileTooLarge | K::QuotaExceeded => {
+            format!("no room to write it: the disk is full or a file-size limit was reached ({e})")
+        }
+        K::NotFound => format!("the folder {} does not exist ({e})", dir.display()),
+        _ => e.to_string(),
+    }
+}
+
+/// Flushes a folder's entries (the rename) to disk. Where folders cannot be opened or flushed
+/// (Windows, some network file systems) there is nothing more to do.
+fn sync_dir(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::io::ErrorKind as K;
+        match fs::File::open(dir).and_then(|d| d.sync_all()) {
+            Err(e) if !matches!(e.kind(), K::InvalidInput | K::Unsupported) => return Err(e),
+            _ => {}
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = dir;
     Ok(())
 }
 

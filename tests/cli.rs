@@ -178,3 +178,27 @@ fn every_shipped_preset_loads_and_runs() {
         assert!(!p.name.is_empty());
     }
 }
+
+/// Built without the `app` feature, the window and the renderer answer with one clear message, and
+/// the headless subcommands still work.
+#[cfg(not(feature = "app"))]
+#[test]
+fn headless_build_says_the_app_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("x.png");
+    for args in [
+        vec![],
+        vec!["gui"],
+        vec![
+            "render",
+            "--preset",
+            "assets/presets/default.ron",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+    ] {
+        let out = stoneskip(&args);
+        assert_clear_error(&out, &["without the `app` feature", "simulate"]);
+    }
+    assert!(!png.exists());
+}

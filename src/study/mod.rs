@@ -122,14 +122,7 @@ impl Ctx {
 
     /// Writes a text file atomically (temporary file, then rename).
     pub fn write(&self, file: &str, text: &str) -> Result<(), StudyError> {
-        let path = self.path(file);
-        let tmp = self.path(&format!(".{file}.tmp"));
-        let io = |source| StudyError::Io {
-            path: path.clone(),
-            source,
-        };
-        std::fs::write(&tmp, text).map_err(io)?;
-        std::fs::rename(&tmp, &path).map_err(io)
+        write_atomic(&self.out, file, text)
     }
 
     /// Writes a CSV table.
@@ -204,13 +197,19 @@ fn note_no_charts(out: &Path) -> Result<(), StudyError> {
     })?;
     let note = "> Charts not drawn: this stoneskip was built without the `charts` feature, so the \
                 PNG images this report links to are missing; the CSV files hold the data.\n\n";
-    let ctx = Ctx {
-        out: out.to_path_buf(),
-        quick: false,
-        name: "report",
-        started: Instant::now(),
+    write_atomic(out, "README.md", &format!("{note}{text}"))
+}
+
+/// Writes `dir/file` atomically: a temporary file beside it, then a rename.
+fn write_atomic(dir: &Path, file: &str, text: &str) -> Result<(), StudyError> {
+    let path = dir.join(file);
+    let tmp = dir.join(format!(".{file}.tmp"));
+    let io = |source| StudyError::Io {
+        path: path.clone(),
+        source,
     };
-    ctx.write("README.md", &format!("{note}{text}"))
+    std::fs::write(&tmp, text).map_err(io)?;
+    std::fs::rename(&tmp, &path).map_err(io)
 }
 
 /// The relative difference |a − b| / |b| (|b| floored at 1e-300, so never NaN for finite input).

@@ -1,6 +1,6 @@
 //! Charts for the studies, as data: line and point charts on linear or logarithmic axes, and
 //! class-coloured maps (the phase diagrams), one or several panels per PNG. The drawing itself is
-//! [`bitmap`] (plotters' bitmap backend), built with the `charts` feature; without it [`draw`]
+//! `bitmap` (plotters' bitmap backend), built with the `charts` feature; without it [`draw`]
 //! draws nothing and the studies write their CSV and Markdown only.
 //!
 //! Values that a log axis cannot show (≤ 0, non-finite) are dropped from the drawing, never passed
