@@ -78,7 +78,6 @@ fn simulate_corpus_passes_its_harness() {
 /// surface stands H above the others) drains into its neighbours, and the K limiter, which lets a
 /// column give exactly what it holds, leaves it at −1.7e-18 m: d + β(in − K·out) rounds below zero.
 #[test]
-#[ignore = "finding W1: the fix belongs in src/sim/water.rs (clamp the rounding or shrink K by an ulp)"]
 fn drained_column_keeps_a_non_negative_depth() {
     let cfg = WaterConfig {
         nx: 17,
@@ -103,7 +102,6 @@ fn drained_column_keeps_a_non_negative_depth() {
 /// Finding W1, f32 storage: a 58 N·s impulse on a 9 × 9 mm footprint of a 2 cm deep lake without
 /// gravity pushes one column dry in one step, to −1.9e-9 m.
 #[test]
-#[ignore = "finding W1: the fix belongs in src/sim/water.rs (clamp the rounding or shrink K by an ulp)"]
 fn impulse_drained_column_keeps_a_non_negative_depth() {
     let cfg = WaterConfig {
         nx: 12,
