@@ -328,31 +328,7 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         );
         c |= ui.checkbox(&mut physics.ventilated, "").changed();
         ui.end_row();
-        if !physics.ventilated {
-            ui.label("Receding faces").on_hover_text(
-                "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed                  along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its                  own normal velocity (never gains energy).",
-            );
-            let before = physics.pressure_sign;
-            ui.horizontal(|ui| {
-                ui.radio_value(
-                    &mut physics.pressure_sign,
-                    PressureSign::AsPrinted,
-                    "As printed",
-                );
-                ui.radio_value(
-                    &mut physics.pressure_sign,
-                    PressureSign::OpposesMotion,
-                    "Opposes motion",
-                );
-            });
-            ui.end_row();
-            c |= before != physics.pressure_sign;
-        }
-        ui.label("Buoyancy").on_hover_text(
-            "Hydrostatic pressure ρ g d on each loaded face (Archimedes): matters once the stone is deep",
-        );
-        c |= ui.checkbox(&mut physics.buoyancy, "").changed();
-        ui.end_row();
+        c |= loading_options_ui(ui, physics);
         ui.label("Integrator");
         let before = physics.integrator;
         egui::ComboBox::from_id_salt("integrator")
@@ -628,6 +604,37 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
                 .custom_formatter(|v, _| format!("{:.0} %", v * 100.0)),
         );
     });
+}
+
+/// The options of how faces are loaded (issue 11): receding faces without ventilation, buoyancy.
+fn loading_options_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
+    let mut c = false;
+    if !physics.ventilated {
+        ui.label("Receding faces").on_hover_text(
+            "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed                  along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its                  own normal velocity (never gains energy).",
+        );
+        let before = physics.pressure_sign;
+        ui.horizontal(|ui| {
+            ui.radio_value(
+                &mut physics.pressure_sign,
+                PressureSign::AsPrinted,
+                "As printed",
+            );
+            ui.radio_value(
+                &mut physics.pressure_sign,
+                PressureSign::OpposesMotion,
+                "Opposes motion",
+            );
+        });
+        ui.end_row();
+        c |= before != physics.pressure_sign;
+    }
+    ui.label("Buoyancy").on_hover_text(
+        "Hydrostatic pressure ρ g d on each loaded face (Archimedes): matters once the stone is deep",
+    );
+    c |= ui.checkbox(&mut physics.buoyancy, "").changed();
+    ui.end_row();
+    c
 }
 
 #[cfg(test)]
