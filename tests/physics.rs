@@ -239,8 +239,11 @@ fn deterministic() {
 fn water_fitted_to_the_throw_covers_it() {
     let mut p =
         stoneskip::preset::load(std::path::Path::new("assets/presets/magic_angle.ron")).unwrap();
-    // A flat-contact throw: the water does not act on the stone (wavy contact off).
+    // A flat-contact throw: the water does not act on the stone (wavy contact off), on the
+    // library's default lake (40 × 12 m), far larger than the throw needs.
     p.water.wavy_contact = false;
+    p.water.size = stoneskip::sim::params::WaterParams::default().size;
+    p.water.origin = None;
     let fitted = stoneskip::sim::scenario::fit_water_to_throw(&p, 2.0).unwrap();
     let area = |q: &Preset| q.water.size[0] * q.water.size[1];
     assert!(

@@ -1263,7 +1263,6 @@ mod simd {
         } else {
             assert!(end <= f.len());
         }
-        let index = |k: usize| if GATHER { list[k] as usize } else { k };
         let ld = |col: &[f64], k: usize| {
             if GATHER {
                 _mm256_set_pd(
@@ -1300,7 +1299,6 @@ mod simd {
         let split = c.normal_w.is_some();
         let wn = c.normal_w.unwrap_or(glam::DVec3::ZERO);
         let (wnx, wny, wnz) = (set(wn.x), set(wn.y), set(wn.z));
-        let rho_g = set(c.rho_g);
         let pos_z = set(c.position.z);
         let (upx, upy, upz) = (set(c.up.x), set(c.up.y), set(c.up.z));
         let dot_up = |x: __m256d, y: __m256d, z: __m256d| {
@@ -1315,54 +1313,13 @@ mod simd {
             let (nx, ny, nz) = (ld(&f.n[0], i), ld(&f.n[1], i), ld(&f.n[2], i));
             let (gx, gy, gz) = (ld(&f.g[0], i), ld(&f.g[1], i), ld(&f.g[2], i));
             let area = ld(&f.area, i);
-            let (vx, vy, vz) = if ROT {
-                (
-                    _mm256_add_pd(
-                        vx0,
-                        _mm256_sub_pd(_mm256_mul_pd(wy, gz), _mm256_mul_pd(gy, wz)),
-                    ),
-                    _mm256_add_pd(
-                        vy0,
-                        _mm256_sub_pd(_mm256_mul_pd(wz, gx), _mm256_mul_pd(gz, wx)),
-                    ),
-                    _mm256_add_pd(
-                        vz0,
-                        _mm256_sub_pd(_mm256_mul_pd(wx, gy), _mm256_mul_pd(gx, wy)),
-                    ),
-                )
-            } else {
-                (vx0, vy0, vz0)
-            };
-            let dot3 = |ax: __m256d, ay: __m256d, az: __m256d| {
-                _mm256_add_pd(
-                    _mm256_add_pd(_mm256_mul_pd(ax, nx), _mm256_mul_pd(ay, ny)),
-                    _mm256_mul_pd(az, nz),
-                )
-            };
-            let vdn = dot3(vx, vy, vz);
-            // The normal velocity: from V + ω_⊥ × r on the smooth body, else v·N.
-            let vn = if EXTRA && split {
-                if ROT {
-                    dot3(
-                        _mm256_add_pd(
-                            vx0,
-                            _mm256_sub_pd(_mm256_mul_pd(wny, gz), _mm256_mul_pd(gy, wnz)),
-                        ),
-                        _mm256_add_pd(
-                            vy0,
-                            _mm256_sub_pd(_mm256_mul_pd(wnz, gx), _mm256_mul_pd(gz, wnx)),
-                        ),
-                        _mm256_add_pd(
-                            vz0,
-                            _mm256_sub_pd(_mm256_mul_pd(wnx, gy), _mm256_mul_pd(gx, wny)),
-                        ),
-                    )
-                } else {
-                    dot3(vx0, vy0, vz0)
-                }
-            } else {
-                vdn
-            };
+            let ([vx, vy, vz], vdn, vn) = velocities::<ROT, EXTRA>(
+                [vx0, vy0, vz0],
+                [wx, wy, wz],
+                split.then_some([wnx, wny, wnz]),
+                [nx, ny, nz],
+                [gx, gy, gz],
+            );
             let hrs = _mm256_mul_pd(half_rho, area);
             let tx = _mm256_sub_pd(vx, _mm256_mul_pd(nx, vdn));
             let ty = _mm256_sub_pd(vy, _mm256_mul_pd(ny, vdn));
@@ -1371,44 +1328,16 @@ mod simd {
                 _mm256_add_pd(_mm256_mul_pd(tx, tx), _mm256_mul_pd(ty, ty)),
                 _mm256_mul_pd(tz, tz),
             ));
-            let (pressure, fric) = match LAW {
-                PAPER => (
-                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(lift, hrs), vn), vn),
-                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), vt_len), vt_len),
-                ),
-                BOCQUET => (
-                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(lift, hrs), speed), speed),
-                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), speed), speed),
-                ),
-                _ => (
-                    _mm256_mul_pd(
-                        _mm256_mul_pd(_mm256_mul_pd(lift_rho, area), speed),
-                        if EXTRA && c.opposing {
-                            _mm256_andnot_pd(sign_bit, vn)
-                        } else {
-                            _mm256_max_pd(vn, zero)
-                        },
-                    ),
-                    _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), vt_len), vt_len),
-                ),
-            };
-            // sign · pressure + hydrostatic.
-            let signed = if EXTRA && c.opposing {
-                let gt = _mm256_cmp_pd::<_CMP_GT_OQ>(vn, zero);
-                let lt = _mm256_cmp_pd::<_CMP_LT_OQ>(vn, zero);
-                let sign = _mm256_blendv_pd(_mm256_blendv_pd(zero, set(-1.0), lt), set(1.0), gt);
-                _mm256_mul_pd(sign, pressure)
-            } else {
-                _mm256_mul_pd(set(1.0), pressure)
-            };
-            let hydrostatic = if EXTRA && c.rho_g != 0.0 {
-                let zc = _mm256_add_pd(pos_z, dot_up(gx, gy, gz));
-                let depth = _mm256_xor_pd(zc, sign_bit);
-                _mm256_mul_pd(_mm256_mul_pd(rho_g, _mm256_max_pd(depth, zero)), area)
-            } else {
-                zero
-            };
-            let p = _mm256_add_pd(signed, hydrostatic);
+            let (pressure, fric) = law_lanes::<LAW, EXTRA>(
+                c,
+                [lift, lift_rho, friction, speed],
+                hrs,
+                area,
+                vn,
+                vt_len,
+            );
+            let zc = |g: [__m256d; 3]| _mm256_add_pd(pos_z, dot_up(g[0], g[1], g[2]));
+            let p = normal_load::<EXTRA>(c, pressure, vn, area, || zc([gx, gy, gz]));
             let neg = |x: __m256d| _mm256_xor_pd(x, sign_bit);
             let mut fx = _mm256_mul_pd(neg(nx), p);
             let mut fy = _mm256_mul_pd(neg(ny), p);
@@ -1434,52 +1363,23 @@ mod simd {
             af[0] = _mm256_add_pd(af[0], keep(fx));
             af[1] = _mm256_add_pd(af[1], keep(fy));
             af[2] = _mm256_add_pd(af[2], keep(fz));
-            at[0] = _mm256_add_pd(
-                at[0],
-                keep(_mm256_sub_pd(_mm256_mul_pd(gy, fz), _mm256_mul_pd(fy, gz))),
-            );
-            at[1] = _mm256_add_pd(
-                at[1],
-                keep(_mm256_sub_pd(_mm256_mul_pd(gz, fx), _mm256_mul_pd(fz, gx))),
-            );
-            at[2] = _mm256_add_pd(
-                at[2],
-                keep(_mm256_sub_pd(_mm256_mul_pd(gx, fy), _mm256_mul_pd(fx, gy))),
-            );
+            let torque = [
+                _mm256_sub_pd(_mm256_mul_pd(gy, fz), _mm256_mul_pd(fy, gz)),
+                _mm256_sub_pd(_mm256_mul_pd(gz, fx), _mm256_mul_pd(fz, gx)),
+                _mm256_sub_pd(_mm256_mul_pd(gx, fy), _mm256_mul_pd(fx, gy)),
+            ];
+            for k in 0..3 {
+                at[k] = _mm256_add_pd(at[k], keep(torque[k]));
+            }
             aa = _mm256_add_pd(aa, keep(area));
             if let (true, Some(a)) = (EXTRA, c.axis) {
-                let pn = dot3(fx, fy, fz);
-                let (px, py, pz) = (
-                    _mm256_mul_pd(nx, pn),
-                    _mm256_mul_pd(ny, pn),
-                    _mm256_mul_pd(nz, pn),
+                ax = _mm256_add_pd(
+                    ax,
+                    keep(axial_lanes(a, [nx, ny, nz], [gx, gy, gz], [fx, fy, fz])),
                 );
-                let t0 = _mm256_sub_pd(_mm256_mul_pd(gy, pz), _mm256_mul_pd(py, gz));
-                let t1 = _mm256_sub_pd(_mm256_mul_pd(gz, px), _mm256_mul_pd(pz, gx));
-                let t2 = _mm256_sub_pd(_mm256_mul_pd(gx, py), _mm256_mul_pd(px, gy));
-                let ta = _mm256_add_pd(
-                    _mm256_add_pd(_mm256_mul_pd(t0, set(a.x)), _mm256_mul_pd(t1, set(a.y))),
-                    _mm256_mul_pd(t2, set(a.z)),
-                );
-                ax = _mm256_add_pd(ax, keep(ta));
             }
             if c.record {
-                let mut out = [[0.0; 4]; 3];
-                let mut mask = [0.0; 4];
-                // SAFETY: stores into local arrays of four.
-                unsafe {
-                    _mm256_storeu_pd(out[0].as_mut_ptr(), fx);
-                    _mm256_storeu_pd(out[1].as_mut_ptr(), fy);
-                    _mm256_storeu_pd(out[2].as_mut_ptr(), fz);
-                    _mm256_storeu_pd(mask.as_mut_ptr(), loaded);
-                }
-                for l in 0..4 {
-                    if mask[l].to_bits() != 0 {
-                        let j = index(i + l);
-                        let fl = DVec3::new(out[0][l], out[1][l], out[2][l]);
-                        loads.push(c.load(f.centroid(j), fl, f.normal(j), f.area[j]));
-                    }
-                }
+                record_lanes::<GATHER>(c, f, list, i, [fx, fy, fz], loaded, loads);
             }
             i += 4;
         }
@@ -1490,6 +1390,178 @@ mod simd {
         }
         wr(&mut la.area, aa);
         wr(&mut la.axial, ax);
+    }
+    /// The faces' velocities v = V + ω × g (or V), v·N, and the normal velocity the pressure sees
+    /// (from ω_⊥ on the smooth body, `wn`), for four faces with normals `n` and centroids `g`.
+    #[target_feature(enable = "avx2")]
+    fn velocities<const ROT: bool, const EXTRA: bool>(
+        v0: [__m256d; 3],
+        w: [__m256d; 3],
+        wn: Option<[__m256d; 3]>,
+        n: [__m256d; 3],
+        g: [__m256d; 3],
+    ) -> ([__m256d; 3], __m256d, __m256d) {
+        let [vx0, vy0, vz0] = v0;
+        let [nx, ny, nz] = n;
+        let [gx, gy, gz] = g;
+        let spun = |[wx, wy, wz]: [__m256d; 3]| {
+            [
+                _mm256_add_pd(
+                    vx0,
+                    _mm256_sub_pd(_mm256_mul_pd(wy, gz), _mm256_mul_pd(gy, wz)),
+                ),
+                _mm256_add_pd(
+                    vy0,
+                    _mm256_sub_pd(_mm256_mul_pd(wz, gx), _mm256_mul_pd(gz, wx)),
+                ),
+                _mm256_add_pd(
+                    vz0,
+                    _mm256_sub_pd(_mm256_mul_pd(wx, gy), _mm256_mul_pd(gx, wy)),
+                ),
+            ]
+        };
+        let v = if ROT { spun(w) } else { v0 };
+        let dot3 = |[ax, ay, az]: [__m256d; 3]| {
+            _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(ax, nx), _mm256_mul_pd(ay, ny)),
+                _mm256_mul_pd(az, nz),
+            )
+        };
+        let vdn = dot3(v);
+        // The normal velocity: from V + ω_⊥ × r on the smooth body, else v·N.
+        let vn = match (EXTRA, wn) {
+            (true, Some(wn)) => {
+                if ROT {
+                    dot3(spun(wn))
+                } else {
+                    dot3(v0)
+                }
+            }
+            _ => vdn,
+        };
+        (v, vdn, vn)
+    }
+
+    /// sign · pressure + hydrostatic for four faces: the sign of v_n when the pressure opposes the
+    /// motion, else +1; ρ g max(0, depth) S with buoyancy (`zc`: the wetted centroids' heights).
+    #[target_feature(enable = "avx2")]
+    fn normal_load<const EXTRA: bool>(
+        c: &Ctx,
+        pressure: __m256d,
+        vn: __m256d,
+        area: __m256d,
+        zc: impl Fn() -> __m256d,
+    ) -> __m256d {
+        let zero = _mm256_setzero_pd();
+        let set = |x: f64| _mm256_set1_pd(x);
+        let signed = if EXTRA && c.opposing {
+            let gt = _mm256_cmp_pd::<_CMP_GT_OQ>(vn, zero);
+            let lt = _mm256_cmp_pd::<_CMP_LT_OQ>(vn, zero);
+            let sign = _mm256_blendv_pd(_mm256_blendv_pd(zero, set(-1.0), lt), set(1.0), gt);
+            _mm256_mul_pd(sign, pressure)
+        } else {
+            _mm256_mul_pd(set(1.0), pressure)
+        };
+        let hydrostatic = if EXTRA && c.rho_g != 0.0 {
+            let depth = _mm256_xor_pd(zc(), set(-0.0));
+            _mm256_mul_pd(
+                _mm256_mul_pd(set(c.rho_g), _mm256_max_pd(depth, zero)),
+                area,
+            )
+        } else {
+            zero
+        };
+        _mm256_add_pd(signed, hydrostatic)
+    }
+
+    /// Pressure and friction magnitudes of the law for four faces (`k`: C_l, C_l ρ, C_f, U).
+    #[target_feature(enable = "avx2")]
+    fn law_lanes<const LAW: u8, const EXTRA: bool>(
+        c: &Ctx,
+        k: [__m256d; 4],
+        hrs: __m256d,
+        area: __m256d,
+        vn: __m256d,
+        vt_len: __m256d,
+    ) -> (__m256d, __m256d) {
+        let [lift, lift_rho, friction, speed] = k;
+        let zero = _mm256_setzero_pd();
+        let sign_bit = _mm256_set1_pd(-0.0);
+        match LAW {
+            PAPER => (
+                _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(lift, hrs), vn), vn),
+                _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), vt_len), vt_len),
+            ),
+            BOCQUET => (
+                _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(lift, hrs), speed), speed),
+                _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), speed), speed),
+            ),
+            _ => (
+                _mm256_mul_pd(
+                    _mm256_mul_pd(_mm256_mul_pd(lift_rho, area), speed),
+                    if EXTRA && c.opposing {
+                        _mm256_andnot_pd(sign_bit, vn)
+                    } else {
+                        _mm256_max_pd(vn, zero)
+                    },
+                ),
+                _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(friction, hrs), vt_len), vt_len),
+            ),
+        }
+    }
+
+    /// (g × p)·a for the pressure part p = N (f·N) of four faces' forces `f`.
+    #[target_feature(enable = "avx2")]
+    fn axial_lanes(a: DVec3, n: [__m256d; 3], g: [__m256d; 3], f: [__m256d; 3]) -> __m256d {
+        let [nx, ny, nz] = n;
+        let [gx, gy, gz] = g;
+        let [fx, fy, fz] = f;
+        let pn = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(fx, nx), _mm256_mul_pd(fy, ny)),
+            _mm256_mul_pd(fz, nz),
+        );
+        let (px, py, pz) = (
+            _mm256_mul_pd(nx, pn),
+            _mm256_mul_pd(ny, pn),
+            _mm256_mul_pd(nz, pn),
+        );
+        let t0 = _mm256_sub_pd(_mm256_mul_pd(gy, pz), _mm256_mul_pd(py, gz));
+        let t1 = _mm256_sub_pd(_mm256_mul_pd(gz, px), _mm256_mul_pd(pz, gx));
+        let t2 = _mm256_sub_pd(_mm256_mul_pd(gx, py), _mm256_mul_pd(px, gy));
+        let set = |x: f64| _mm256_set1_pd(x);
+        _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(t0, set(a.x)), _mm256_mul_pd(t1, set(a.y))),
+            _mm256_mul_pd(t2, set(a.z)),
+        )
+    }
+
+    /// Records the loads of the four faces from `i` (of `list` when `GATHER`) that carry one.
+    #[target_feature(enable = "avx2")]
+    fn record_lanes<const GATHER: bool>(
+        c: &Ctx,
+        f: &FaceSoa,
+        list: &[u32],
+        i: usize,
+        force: [__m256d; 3],
+        loaded: __m256d,
+        loads: &mut Vec<FaceLoad>,
+    ) {
+        let mut out = [[0.0; 4]; 3];
+        let mut mask = [0.0; 4];
+        // SAFETY: stores into local arrays of four.
+        unsafe {
+            _mm256_storeu_pd(out[0].as_mut_ptr(), force[0]);
+            _mm256_storeu_pd(out[1].as_mut_ptr(), force[1]);
+            _mm256_storeu_pd(out[2].as_mut_ptr(), force[2]);
+            _mm256_storeu_pd(mask.as_mut_ptr(), loaded);
+        }
+        for l in 0..4 {
+            if mask[l].to_bits() != 0 {
+                let j = if GATHER { list[i + l] as usize } else { i + l };
+                let fl = DVec3::new(out[0][l], out[1][l], out[2][l]);
+                loads.push(c.load(f.centroid(j), fl, f.normal(j), f.area[j]));
+            }
+        }
     }
 }
 
@@ -1845,6 +1917,37 @@ mod tests {
 
     /// The explicit-AVX2 chunks give the portable lanes' bits (where the machine has AVX2).
     #[cfg(target_arch = "x86_64")]
+    /// The AVX2 chunks over faces `0..end` for `law`, with or without rotation.
+    ///
+    /// # Safety
+    /// AVX2 must be available.
+    #[cfg(target_arch = "x86_64")]
+    unsafe fn simd_all(
+        law: ForceLaw,
+        spin: bool,
+        c: &Ctx,
+        faces: &FaceSoa,
+        end: usize,
+    ) -> LaneAcc<LANES> {
+        let mut la = LaneAcc::<LANES>::default();
+        let mut loads = Vec::new();
+        macro_rules! go {
+            ($law:ident, $rot:literal) => {
+                // SAFETY: the caller checked AVX2.
+                unsafe { simd::plain_chunks::<$law, $rot>(c, faces, 0, end, &mut la, &mut loads) }
+            };
+        }
+        match (law_code(law), spin) {
+            (PAPER, false) => go!(PAPER, false),
+            (PAPER, true) => go!(PAPER, true),
+            (BOCQUET, false) => go!(BOCQUET, false),
+            (BOCQUET, true) => go!(BOCQUET, true),
+            (_, false) => go!(ROSELLINI, false),
+            (_, true) => go!(ROSELLINI, true),
+        }
+        la
+    }
+
     #[test]
     fn avx2_chunks_match_the_portable_lanes_bit_for_bit() {
         if !std::arch::is_x86_feature_detected!("avx2") {
@@ -1901,58 +2004,7 @@ mod tests {
                         let mut la = LaneAcc::<LANES>::default();
                         if simd {
                             // SAFETY: AVX2 checked above.
-                            unsafe {
-                                match (law_code(law), spin) {
-                                    (PAPER, false) => simd::plain_chunks::<PAPER, false>(
-                                        &c,
-                                        faces,
-                                        0,
-                                        end,
-                                        &mut la,
-                                        &mut Vec::new(),
-                                    ),
-                                    (PAPER, true) => simd::plain_chunks::<PAPER, true>(
-                                        &c,
-                                        faces,
-                                        0,
-                                        end,
-                                        &mut la,
-                                        &mut Vec::new(),
-                                    ),
-                                    (BOCQUET, false) => simd::plain_chunks::<BOCQUET, false>(
-                                        &c,
-                                        faces,
-                                        0,
-                                        end,
-                                        &mut la,
-                                        &mut Vec::new(),
-                                    ),
-                                    (BOCQUET, true) => simd::plain_chunks::<BOCQUET, true>(
-                                        &c,
-                                        faces,
-                                        0,
-                                        end,
-                                        &mut la,
-                                        &mut Vec::new(),
-                                    ),
-                                    (_, false) => simd::plain_chunks::<ROSELLINI, false>(
-                                        &c,
-                                        faces,
-                                        0,
-                                        end,
-                                        &mut la,
-                                        &mut Vec::new(),
-                                    ),
-                                    (_, true) => simd::plain_chunks::<ROSELLINI, true>(
-                                        &c,
-                                        faces,
-                                        0,
-                                        end,
-                                        &mut la,
-                                        &mut Vec::new(),
-                                    ),
-                                }
-                            }
+                            la = unsafe { simd_all(law, spin, &c, faces, end) };
                         } else {
                             let mut loads = Vec::new();
                             for i in (0..end).step_by(LANES) {
