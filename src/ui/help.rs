@@ -143,7 +143,7 @@ const MODEL: &[(&str, &str, &str)] = &[
         "Wavy contact",
         "Contact against the grid's height instead of z = 0: the stone rides on the water its own \
          pressure moves, which breaks up the steady planing glides of flat water (the shipped \
-         presets use it on 2 cm columns; distances agree within ~10 % from 1 to 5 cm).",
+         presets use it on 2 cm columns; results still move with the cell and the depth).",
         "the paper (future work); Hewitt et al. 2011; docs/studies/fidelity",
     ),
     (
