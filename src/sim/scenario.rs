@@ -5,7 +5,7 @@
 
 use glam::DMat3;
 
-use super::params::Preset;
+use super::params::{Attitude, ForceLaw, Preset, PressureCentre, Rotation, Shape, StoneParams};
 use super::stone::{orientation_from_attitude, Stone};
 use super::{SimError, Simulation};
 
@@ -121,4 +121,43 @@ pub fn fit_water_to_throw(preset: &Preset, margin: f64) -> Result<Preset, SimErr
     out.water.size = [span(lo[0], hi[0]), span(lo[1], hi[1])];
     out.validate()?;
     Ok(out)
+}
+
+/// Radius of the typical stone (m): Bocquet's R in N ≈ Rω²/g.
+pub const TYPICAL_RADIUS: f64 = 0.05;
+
+/// The typical stone of the spin-limited count: a 10 cm, 150 g disc thrown at 12 m/s from 25 cm with
+/// V_z = −0.5 m/s at a 15° tilt, Rosellini law, water off; `None`: locked attitude.
+pub fn typical(rev_s: Option<f64>, centre: PressureCentre) -> Preset {
+    let mut p = Preset {
+        name: "typical spun stone".into(),
+        ..Preset::default()
+    };
+    p.stone = StoneParams {
+        shape: Shape::Disk {
+            radius: TYPICAL_RADIUS,
+            thickness: 0.008,
+        },
+        mass: 0.15,
+        segments: 48,
+    };
+    p.launch.position = [0.0, 0.0, 0.25];
+    p.launch.velocity = [12.0, 0.0, -0.5];
+    p.launch.attitude = Attitude {
+        tilt_deg: 15.0,
+        bank_deg: 0.0,
+        heading_deg: 0.0,
+    };
+    p.physics.force_law = ForceLaw::Rosellini;
+    p.physics.pressure_centre = centre;
+    p.physics.max_time = 20.0;
+    match rev_s {
+        Some(s) => {
+            p.physics.rotation = Rotation::Free;
+            p.launch.spin = s * std::f64::consts::TAU;
+        }
+        None => p.physics.rotation = Rotation::Locked,
+    }
+    p.water.enabled = false;
+    p
 }

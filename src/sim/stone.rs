@@ -323,6 +323,28 @@ pub fn reported_attitude(world_from_stone: DQuat, velocity: DVec3) -> [f64; 3] {
     [tilt.to_degrees(), bank.to_degrees(), heading.to_degrees()]
 }
 
+/// Inclination of the stone's plane to the water (degrees) from a reported [tilt, bank, heading]
+/// ([`reported_attitude`]): the axis has a_z = cos(tilt)·cos(bank).
+pub fn inclination(att: [f64; 3]) -> f64 {
+    (att[0].to_radians().cos() * att[1].to_radians().cos())
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees()
+}
+
+/// The stone's axis (world) from a reported [tilt, bank, heading]: [`reported_attitude`] inverted.
+pub fn axis_from_reported(att: [f64; 3]) -> DVec3 {
+    let (t, b, h) = (
+        att[0].to_radians(),
+        att[1].to_radians(),
+        att[2].to_radians(),
+    );
+    let d = DVec3::new(h.cos(), h.sin(), 0.0);
+    let s = DVec3::Z.cross(d);
+    let az = t.cos() * b.cos();
+    d * (-t.sin()) + s * (-b.tan() * az) + DVec3::Z * az
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

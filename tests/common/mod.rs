@@ -3,9 +3,8 @@
 //! (Clanet et al. 2004: R 2.5 cm, e 2.75 mm, 14.6 g) — and the throws of the spin tests (physics.md
 //! §1.7, §7.3), so that no physics test depends on a study module.
 
-#![allow(dead_code, clippy::field_reassign_with_default)]
+#![allow(dead_code, unused_imports, clippy::field_reassign_with_default)]
 
-use glam::DVec3;
 use rayon::prelude::*;
 use stoneskip::sim::params::{
     Attitude, ForceLaw, Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams,
@@ -15,6 +14,10 @@ use stoneskip::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
 use stoneskip::sim::{SimError, Simulation};
 
 /// One revolution (rad).
+pub use stoneskip::sim::metrics::fit_exponent;
+pub use stoneskip::sim::scenario::typical;
+pub use stoneskip::sim::stone::{axis_from_reported as axis, inclination};
+
 pub const REV: f64 = std::f64::consts::TAU;
 
 /// Relative difference |a − b| / |b|.
@@ -136,67 +139,6 @@ pub fn clanet_spun(tilt_deg: f64, rev_s: f64, centre: PressureCentre) -> Result<
     )
 }
 
-/// Radius of the typical stone (m).
-pub const TYPICAL_RADIUS: f64 = 0.05;
-
-/// The typical stone of the spin-limited count: a 10 cm, 150 g disc thrown at 12 m/s from 25 cm with
-/// V_z = −0.5 m/s at a 15° tilt, Rosellini law, water off; `None`: locked attitude.
-pub fn typical(rev_s: Option<f64>, centre: PressureCentre) -> Preset {
-    let mut p = Preset {
-        name: "typical spun stone".into(),
-        ..Preset::default()
-    };
-    p.stone = StoneParams {
-        shape: Shape::Disk {
-            radius: TYPICAL_RADIUS,
-            thickness: 0.008,
-        },
-        mass: 0.15,
-        segments: 48,
-    };
-    p.launch.position = [0.0, 0.0, 0.25];
-    p.launch.velocity = [12.0, 0.0, -0.5];
-    p.launch.attitude = Attitude {
-        tilt_deg: 15.0,
-        bank_deg: 0.0,
-        heading_deg: 0.0,
-    };
-    p.physics.force_law = ForceLaw::Rosellini;
-    p.physics.pressure_centre = centre;
-    p.physics.max_time = 20.0;
-    match rev_s {
-        Some(s) => {
-            p.physics.rotation = Rotation::Free;
-            p.launch.spin = s * REV;
-        }
-        None => p.physics.rotation = Rotation::Locked,
-    }
-    p.water.enabled = false;
-    p
-}
-
-/// Inclination of the stone's plane to the water (degrees) from a reported [tilt, bank, heading]:
-/// the axis has a_z = cos(tilt)·cos(bank).
-pub fn inclination(att: [f64; 3]) -> f64 {
-    (att[0].to_radians().cos() * att[1].to_radians().cos())
-        .clamp(-1.0, 1.0)
-        .acos()
-        .to_degrees()
-}
-
-/// The stone's axis (world) from a reported [tilt, bank, heading].
-pub fn axis(att: [f64; 3]) -> DVec3 {
-    let (t, b, h) = (
-        att[0].to_radians(),
-        att[1].to_radians(),
-        att[2].to_radians(),
-    );
-    let d = DVec3::new(h.cos(), h.sin(), 0.0);
-    let s = DVec3::Z.cross(d);
-    let az = t.cos() * b.cos();
-    d * (-t.sin()) + s * (-b.tan() * az) + DVec3::Z * az
-}
-
 /// Force evaluations after which a spin throw is cut short.
 pub const EVAL_CAP: u64 = 300_000;
 
@@ -306,24 +248,6 @@ pub fn logspace(lo: f64, hi: f64, n: usize) -> Vec<f64> {
             i => (a + (b - a) * i as f64 / (n - 1) as f64).exp(),
         })
         .collect()
-}
-
-/// Least-squares slope of ln y over ln x (the exponent p of y ∝ x^p); `None` below two points.
-pub fn fit_exponent(points: &[(f64, f64)]) -> Option<f64> {
-    let pts: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-        .map(|(x, y)| (x.ln(), y.ln()))
-        .collect();
-    if pts.len() < 2 {
-        return None;
-    }
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    (sxx > 0.0).then(|| sxy / sxx)
 }
 
 /// The spin-limited part of a count curve, counted in rebounds: spins whose count N is at least 2

@@ -17,9 +17,7 @@
 
 use rayon::prelude::*;
 
-use crate::sim::params::{
-    Attitude, ForceLaw, Preset, PressureCentre, Rotation, Shape, StoneParams,
-};
+use crate::sim::params::{ForceLaw, Preset, PressureCentre, Rotation};
 use crate::sim::scenario::{at_impact, IMPACT_CLEARANCE};
 use crate::sim::Simulation;
 
@@ -27,6 +25,10 @@ use super::throws::{clanet_disc, EVAL_CAP};
 use super::{check_cancel, linspace_step, logspace, Ctx, StudyError};
 
 mod report;
+
+pub use crate::sim::metrics::fit_exponent;
+pub use crate::sim::scenario::{typical, TYPICAL_RADIUS};
+pub use crate::sim::stone::{axis_from_reported as axis, inclination};
 
 pub const REV: f64 = std::f64::consts::TAU;
 
@@ -98,67 +100,6 @@ pub fn clanet_spun(tilt: f64, rev_s: f64, centre: PressureCentre) -> Result<Pres
         MAP_BETA_DEG.to_radians(),
         IMPACT_CLEARANCE,
     )?)
-}
-
-/// The typical stone of the spin-limited count: a 10 cm, 150 g disc thrown at 12 m/s from 25 cm with
-/// V_z = −0.5 m/s at a 15° tilt, Rosellini law, water off; `None`: locked attitude.
-pub fn typical(rev_s: Option<f64>, centre: PressureCentre) -> Preset {
-    let mut p = Preset {
-        name: "typical spun stone".into(),
-        ..Preset::default()
-    };
-    p.stone = StoneParams {
-        shape: Shape::Disk {
-            radius: TYPICAL_RADIUS,
-            thickness: 0.008,
-        },
-        mass: 0.15,
-        segments: 48,
-    };
-    p.launch.position = [0.0, 0.0, 0.25];
-    p.launch.velocity = [12.0, 0.0, -0.5];
-    p.launch.attitude = Attitude {
-        tilt_deg: 15.0,
-        bank_deg: 0.0,
-        heading_deg: 0.0,
-    };
-    p.physics.force_law = ForceLaw::Rosellini;
-    p.physics.pressure_centre = centre;
-    p.physics.max_time = 20.0;
-    match rev_s {
-        Some(s) => {
-            p.physics.rotation = Rotation::Free;
-            p.launch.spin = s * REV;
-        }
-        None => p.physics.rotation = Rotation::Locked,
-    }
-    p.water.enabled = false;
-    p
-}
-
-/// Radius of the typical stone (m): Bocquet's R in N ≈ Rω²/g.
-pub const TYPICAL_RADIUS: f64 = 0.05;
-
-/// Inclination of the stone's plane to the water (degrees) from a reported [tilt, bank, heading]:
-/// the axis has a_z = cos(tilt)·cos(bank).
-pub fn inclination(att: [f64; 3]) -> f64 {
-    (att[0].to_radians().cos() * att[1].to_radians().cos())
-        .clamp(-1.0, 1.0)
-        .acos()
-        .to_degrees()
-}
-
-/// The stone's axis (world) from a reported [tilt, bank, heading] (stone::reported_attitude inverted).
-pub fn axis(att: [f64; 3]) -> glam::DVec3 {
-    let (t, b, h) = (
-        att[0].to_radians(),
-        att[1].to_radians(),
-        att[2].to_radians(),
-    );
-    let d = glam::DVec3::new(h.cos(), h.sin(), 0.0);
-    let s = glam::DVec3::Z.cross(d);
-    let az = t.cos() * b.cos();
-    d * (-t.sin()) + s * (-b.tan() * az) + glam::DVec3::Z * az
 }
 
 /// One throw of the map.
@@ -285,24 +226,6 @@ pub fn spin_counts(centre: PressureCentre, spins: &[f64]) -> Result<Vec<CountPoi
             })
         })
         .collect()
-}
-
-/// Least-squares slope of ln y over ln x (the exponent p of y ∝ x^p); `None` below two points.
-pub fn fit_exponent(points: &[(f64, f64)]) -> Option<f64> {
-    let pts: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|(x, y)| *x > 0.0 && *y > 0.0)
-        .map(|(x, y)| (x.ln(), y.ln()))
-        .collect();
-    let n = pts.len() as f64;
-    if pts.len() < 2 {
-        return None;
-    }
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    (sxx > 0.0).then(|| sxy / sxx)
 }
 
 /// The spin-limited part of a count curve, counted in rebounds (a graze that rocks off the surface
