@@ -99,6 +99,10 @@ pub struct ContactEvent {
 pub struct WaterSummary {
     pub volume_initial: f64,
     pub volume_final: f64,
+    /// Whether the water was stepped. A headless run whose results do not read the water (wavy
+    /// contact off: the stone sees the plane z = 0) leaves it at rest; see
+    /// [`Simulation::skip_unread_water`].
+    pub stepped: bool,
 }
 
 /// The result of a run, as `simulate --json` prints it (design.md §7).
@@ -296,6 +300,8 @@ pub struct Simulation {
     /// Upper bound of the water surface's slope (wavy contact), for the flight's clearance bound.
     water_max_slope: f64,
     volume_initial: f64,
+    /// Whether `tick` advances the water (and gives it the stone's impulses).
+    step_water: bool,
     launch_position: DVec3,
     motion: Motion,
 }
@@ -335,6 +341,7 @@ impl Simulation {
             water_max_eta: 0.0,
             water_max_slope: 0.0,
             volume_initial,
+            step_water: true,
             launch_position: state.position,
             motion: Motion {
                 state,
@@ -474,6 +481,7 @@ impl Simulation {
             water: self.water.as_ref().map(|w| WaterSummary {
                 volume_initial: self.volume_initial,
                 volume_final: w.volume(),
+                stepped: self.step_water,
             }),
         }
     }
@@ -489,6 +497,18 @@ impl Simulation {
             self.tick_with(on_step);
         }
         self.summary()
+    }
+
+    /// Stops stepping the water when nothing the run reports depends on it: with wavy contact off
+    /// the stone meets the plane z = 0, so its motion, contacts and outcome are the same with the
+    /// water at rest (the lake's extent still bounds the run: `left_domain`). Headless runs call this;
+    /// the app does not (it shows the rings). Returns whether the water is now left at rest; the
+    /// summary says so (`water.stepped`).
+    pub fn skip_unread_water(&mut self) -> bool {
+        if self.water.is_some() && !self.preset.water.wavy_contact {
+            self.step_water = false;
+        }
+        !self.step_water
     }
 
     /// Advances by one tick (`physics.dt`).
@@ -508,7 +528,7 @@ impl Simulation {
         if !self.is_finished() && self.motion.time >= self.preset.physics.max_time - 1e-12 {
             self.finish(Outcome::Timeout);
         }
-        if let Some(w) = self.water.as_mut() {
+        if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             for l in &self.motion.pending {
                 w.deposit_impulse_box(l.x, l.y, l.half, l.impulse);
                 w.deposit_momentum_box(l.x, l.y, l.half, l.horizontal);
@@ -1144,15 +1164,43 @@ fn local_bounds(w: &WaterGrid, x: f64, y: f64, reach: f64) -> (f64, f64) {
     (m, sx.hypot(sy) / l)
 }
 
-/// Convenience: runs a preset to its end and returns the summary.
+/// Runs a preset to its end, headless: the water is left at rest when nothing reads it
+/// ([`Simulation::skip_unread_water`]).
 pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
     let mut sim = Simulation::new(preset)?;
+    sim.skip_unread_water();
     Ok(sim.run(&mut |_| {}, &|| false))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// With wavy contact off the stone meets the plane z = 0, so leaving the water at rest changes
+    /// nothing the run reports about the stone, bit for bit; with wavy contact on, the water is read
+    /// and keeps stepping.
+    #[test]
+    fn unread_water_is_left_at_rest_without_changing_the_stone() {
+        let mut p = Preset::default();
+        p.water.wavy_contact = false;
+        p.water.cell = 0.05;
+        p.water.size = [16.0, 2.0];
+        p.physics.max_time = 1.0;
+        let mut stepped = Simulation::new(&p).unwrap();
+        let a = stepped.run(&mut |_| {}, &|| false);
+        let b = simulate(&p).unwrap();
+        let (wa, wb) = (a.water.unwrap(), b.water.unwrap());
+        assert!(wa.stepped && !wb.stepped);
+        assert_eq!(wb.volume_final, wb.volume_initial);
+        assert!(a.skips >= 1, "{a:?}");
+        assert_eq!(Summary { water: None, ..a }, Summary { water: None, ..b });
+        let mut q = p.clone();
+        q.water.wavy_contact = true;
+        let mut sim = Simulation::new(&q).unwrap();
+        assert!(!sim.skip_unread_water());
+        sim.tick();
+        assert!(sim.summary().water.unwrap().stepped);
+    }
 
     /// A step whose forces overflow (the velocity of an explicit scheme run far past its stability
     /// limit) ends the run as diverged, at the last finite state, with the reason; it used to be
