@@ -1414,11 +1414,19 @@ mod tests {
                 tail_longest_hop: 0.0,
                 lateral: 0.0,
             },
+            members: vec![skips],
+            tilt_after_first: f64::NAN,
+            tilt_at_last: f64::NAN,
         };
         assert_eq!(
             spin_drops(&[run(0.0, 1), run(1.0, 3), run(2.0, 2), run(3.0, 4)]),
             0
         );
         assert_eq!(spin_drops(&[run(0.0, 1), run(1.0, 3), run(2.0, 1)]), 1);
+        // The trend is the ensemble's median: one low member is not a drop.
+        let mut noisy = run(2.0, 3);
+        noisy.members = vec![0, 3, 3, 4, 5];
+        assert_eq!(noisy.median(), 3);
+        assert_eq!(spin_drops(&[run(0.0, 1), run(1.0, 3), noisy]), 0);
     }
 }
