@@ -397,21 +397,19 @@ fn render_frame(
             } else {
                 egui::Color32::from_rgb(26, 26, 28)
             };
-            let mut under: Vec<egui::ClippedPrimitive> = tiles
-                .iter()
-                .map(|t| {
-                    let mut m = egui::Mesh::default();
-                    m.add_colored_rect(*t, background);
-                    egui::ClippedPrimitive {
-                        clip_rect: *t,
-                        primitive: egui::epaint::Primitive::Mesh(m),
-                    }
-                })
-                .collect();
-            let mut rects = vec![r];
-            rects.extend_from_slice(tiles);
-            under.extend(redraw::clipped_to(prims, &rects));
-            clipped = under;
+            // Rectangle by rectangle (they may overlap one another, never the view): the
+            // background, then everything over it.
+            let mut again = redraw::clipped_to(prims, &[r]);
+            for t in tiles {
+                let mut m = egui::Mesh::default();
+                m.add_colored_rect(*t, background);
+                again.push(egui::ClippedPrimitive {
+                    clip_rect: *t,
+                    primitive: egui::epaint::Primitive::Mesh(m),
+                });
+                again.extend(redraw::clipped_to(prims, std::slice::from_ref(t)));
+            }
+            clipped = again;
             &clipped
         }
     };

@@ -12,9 +12,9 @@ use egui::{ClippedPrimitive, Pos2, Rect};
 /// Side of a fingerprint tile (points).
 pub const TILE: f32 = 32.0;
 
-/// Above this many rectangles a full redraw is cheaper than drawing the panels' meshes again for
-/// each.
-pub const MAX_RECTS: usize = 12;
+/// At most this many rectangles are drawn again (more are joined): each draws the panels' meshes
+/// again.
+pub const MAX_RECTS: usize = 8;
 
 /// Per-tile fingerprints of one frame's panels.
 #[derive(Debug, Clone, PartialEq)]
@@ -134,8 +134,8 @@ impl PanelTiles {
     }
 
     /// The rectangles (points) to draw again after `last`: `None` when the whole window must be
-    /// (another layout, or too many rectangles), else the changed tiles merged into row runs and
-    /// those into blocks — empty when the panels are unchanged.
+    /// (another layout, or changes scattered everywhere), else the changed tiles merged into row
+    /// runs, those into blocks, at most [`MAX_RECTS`] — empty when the panels are unchanged.
     pub fn changed_since(&self, last: &PanelTiles) -> Option<Vec<Rect>> {
         if self.screen != last.screen
             || self.view != last.view
@@ -163,31 +163,75 @@ impl PanelTiles {
                 runs.push((ty, start, tx - 1));
             }
         }
-        // Equal runs on consecutive rows become one block: (first row, last row, col0, col1).
+        if runs.len() > 4 * self.rows + 64 {
+            return None;
+        }
+        // A run meeting a block that ends on the row above (columns overlapping or within a tile)
+        // joins it: (first row, last row, col0, col1).
         let mut blocks: Vec<(usize, usize, usize, usize)> = Vec::new();
         for (ty, a, b) in runs {
             match blocks
                 .iter_mut()
-                .find(|blk| blk.1 + 1 == ty && blk.2 == a && blk.3 == b)
+                .find(|blk| blk.1 + 1 >= ty && a <= blk.3 + 1 && blk.2 <= b + 1)
             {
-                Some(blk) => blk.1 = ty,
+                Some(blk) => *blk = (blk.0, ty, blk.2.min(a), blk.3.max(b)),
                 None => blocks.push((ty, ty, a, b)),
             }
         }
-        if blocks.len() > MAX_RECTS {
-            return None;
+        // Still too many: join the pair whose union adds the fewest tiles, until few enough.
+        let area = |b: &(usize, usize, usize, usize)| (b.1 - b.0 + 1) * (b.3 - b.2 + 1);
+        let union = |p: &(usize, usize, usize, usize), q: &(usize, usize, usize, usize)| {
+            (p.0.min(q.0), p.1.max(q.1), p.2.min(q.2), p.3.max(q.3))
+        };
+        while blocks.len() > MAX_RECTS {
+            let mut best = (usize::MAX, 0, 1);
+            for i in 0..blocks.len() {
+                for j in i + 1..blocks.len() {
+                    let u = union(&blocks[i], &blocks[j]);
+                    let extra = area(&u).saturating_sub(area(&blocks[i]) + area(&blocks[j]));
+                    if extra < best.0 {
+                        best = (extra, i, j);
+                    }
+                }
+            }
+            let (_, i, j) = best;
+            let q = blocks.swap_remove(j);
+            blocks[i] = union(&blocks[i], &q);
         }
+        // The view's own pixels are drawn again anyway: the rectangles leave it out.
         Some(
             blocks
                 .into_iter()
-                .map(|(y0, y1, x0, x1)| {
-                    tile_rect(self.screen, x0, y0)
+                .flat_map(|(y0, y1, x0, x1)| {
+                    let r = tile_rect(self.screen, x0, y0)
                         .union(tile_rect(self.screen, x1, y1))
-                        .intersect(self.screen)
+                        .intersect(self.screen);
+                    outside(r, self.view)
                 })
                 .collect(),
         )
     }
+}
+
+/// The parts of `r` outside `view`: at most four rectangles (above, below, left, right of it).
+pub fn outside(r: Rect, view: Rect) -> Vec<Rect> {
+    let cut = r.intersect(view);
+    if !cut.is_positive() {
+        return vec![r];
+    }
+    let parts = [
+        Rect::from_min_max(r.min, Pos2::new(r.max.x, cut.min.y)),
+        Rect::from_min_max(Pos2::new(r.min.x, cut.max.y), r.max),
+        Rect::from_min_max(
+            Pos2::new(r.min.x, cut.min.y),
+            Pos2::new(cut.min.x, cut.max.y),
+        ),
+        Rect::from_min_max(
+            Pos2::new(cut.max.x, cut.min.y),
+            Pos2::new(r.max.x, cut.max.y),
+        ),
+    ];
+    parts.into_iter().filter(|p| p.is_positive()).collect()
 }
 
 fn tile_rect(screen: Rect, tx: usize, ty: usize) -> Rect {
@@ -300,6 +344,7 @@ mod tests {
         let b = PanelTiles::new(&frame(readout, Color32::YELLOW), screen, view, 1.0);
         let rects = b.changed_since(&a).expect("a partial redraw");
         assert_eq!(rects.len(), 1, "{rects:?}");
+        assert!(!rects[0].intersects(view) || rects[0].intersect(view).area() == 0.0);
         let r = rects[0];
         // The rectangle covers the readout, lies in the panel's tiles, and is far smaller than it.
         assert!(r.contains_rect(readout), "{r:?}");
@@ -326,6 +371,56 @@ mod tests {
         assert!(
             rects.iter().any(|r| r.contains_rect(at(240.0))),
             "{rects:?}"
+        );
+    }
+
+    #[test]
+    fn scattered_changes_join_into_few_rectangles_covering_them() {
+        let (screen, view, _) = layout();
+        let at = |i: usize| {
+            Rect::from_min_size(
+                Pos2::new(490.0 + 70.0 * (i % 2) as f32, 8.0 + 20.0 * i as f32),
+                egui::vec2(20.0, 6.0),
+            )
+        };
+        let readouts = |color: Color32| {
+            let mut f = frame(at(0), Color32::WHITE);
+            f.extend((0..15).map(|i| rect_prim(at(i), color, layout().2)));
+            f
+        };
+        let a = PanelTiles::new(&readouts(Color32::WHITE), screen, view, 1.0);
+        let b = PanelTiles::new(&readouts(Color32::GREEN), screen, view, 1.0);
+        let rects = b.changed_since(&a).expect("a partial redraw");
+        assert!(rects.len() <= MAX_RECTS, "{rects:?}");
+        for i in 0..15 {
+            assert!(
+                rects.iter().any(|r| r.contains_rect(at(i))),
+                "{i}: {rects:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_change_at_the_views_edge_never_covers_the_view() {
+        // A view edge inside a tile (x = 470): the changed tile is cut there.
+        let screen = Rect::from_min_max(Pos2::ZERO, Pos2::new(640.0, 320.0));
+        let view = Rect::from_min_max(Pos2::new(0.0, 40.0), Pos2::new(470.0, 320.0));
+        let panel = Rect::from_min_max(Pos2::new(470.0, 0.0), Pos2::new(640.0, 320.0));
+        let f = |c: Color32| vec![rect_prim(panel, c, panel)];
+        let a = PanelTiles::new(&f(Color32::WHITE), screen, view, 1.0);
+        let b = PanelTiles::new(&f(Color32::BLUE), screen, view, 1.0);
+        let rects = b.changed_since(&a).expect("a partial redraw");
+        assert!(!rects.is_empty());
+        for r in &rects {
+            assert!(
+                r.intersect(view).area() <= 0.0,
+                "{r:?} covers the view {view:?}"
+            );
+        }
+        let covered: f32 = rects.iter().map(|r| r.intersect(panel).area()).sum();
+        assert!(
+            covered >= panel.area() - 1e-3,
+            "the whole changed panel: {covered}"
         );
     }
 
