@@ -485,9 +485,7 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         c |= coefficient_row(
             ui,
             marks,
-            "lift coefficient",
-            "C_l",
-            "Lift (pressure) coefficient",
+            ["lift coefficient", "C_l", "Lift (pressure) coefficient"],
             &mut physics.lift_coefficient,
             dl,
             0.0..=5.0,
@@ -495,9 +493,7 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         c |= coefficient_row(
             ui,
             marks,
-            "friction coefficient",
-            "C_f",
-            "Friction coefficient",
+            ["friction coefficient", "C_f", "Friction coefficient"],
             &mut physics.friction_coefficient,
             df,
             0.0..=2.0,
@@ -621,16 +617,16 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     changed
 }
 
+/// A coefficient the law defaults: `field` is [field name, label, tooltip].
 fn coefficient_row(
     ui: &mut Ui,
     marks: &Marks,
-    key: &str,
-    name: &str,
-    tip: &str,
+    field: [&str; 3],
     value: &mut Option<f64>,
     default: f64,
     range: std::ops::RangeInclusive<f64>,
 ) -> bool {
+    let [key, name, tip] = field;
     label_ui(ui, marks, &[key], name, tip);
     let mut changed = false;
     ui.horizontal(|ui| {
