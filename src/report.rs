@@ -70,7 +70,13 @@ pub fn text_summary(s: &Summary) -> String {
                 c.beta_in,
                 c.attitude_in[0],
                 vout,
-                if c.skip { "yes" } else { "no" }
+                if c.skip {
+                    "yes"
+                } else if c.graze {
+                    "graze"
+                } else {
+                    "no"
+                }
             ));
         }
     }

@@ -72,14 +72,28 @@ impl Outcome {
     }
 }
 
-/// One contact episode: from the first vertex reaching the surface until none is at or below it
-/// (a skip), or until the stone sinks or the run ends.
+/// One contact episode: from the first vertex reaching the surface until none is at or below it,
+/// or until the stone sinks or the run ends.
+///
+/// On flat water (z = 0: wavy contact off) every episode that ends with the stone wholly above the
+/// surface is a **skip** (design.md §4). With wavy contact the surface moves by itself — a swell's
+/// crests and the rings of earlier contacts rise into the stone — so there an episode that ends in
+/// the air is a skip only when the water turned the stone upward, `v_out.z > v_in.z`: the water's
+/// vertical impulse over the episode, J_z = m (v_out.z − v_in.z) + m g (t_end − t_start), exceeded
+/// what gravity took, i.e. its mean upward force beat the stone's weight. Otherwise it is a
+/// **graze**: a crest brushed a stone that gravity kept decelerating (typically one still climbing
+/// from the bounce before), listed but not counted. A bounce always qualifies (it turns a fall,
+/// v_in.z < 0, into a climb, v_out.z > 0), and so does a rock-off that only slows a fall. The rule
+/// has no parameter and does not depend on the tick.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ContactEvent {
     pub t_start: f64,
     pub t_end: f64,
-    /// Ended with the stone wholly above the surface.
+    /// Ended with the stone wholly above the surface (with wavy contact: turned upward, see above).
     pub skip: bool,
+    /// With wavy contact: ended with the stone wholly above the surface without the water turning
+    /// it upward (a crest's brush, not counted). Always false on flat water.
+    pub graze: bool,
     /// Centre of mass when the episode started.
     pub x: f64,
     pub y: f64,
@@ -595,6 +609,7 @@ impl Simulation {
             t_start: t,
             t_end: t,
             skip: false,
+            graze: false,
             x: s.position.x,
             y: s.position.y,
             v_in: v.to_array(),
@@ -614,6 +629,7 @@ impl Simulation {
                 ev.open = false;
                 ev.t_end = t;
                 ev.skip = false;
+                ev.graze = false;
                 ev.v_out = s.velocity.to_array();
                 ev.attitude_out = reported_attitude(s.orientation, s.velocity);
             }
@@ -730,15 +746,19 @@ impl Simulation {
             self.motion.contacts.push(ev);
         } else if was && !now {
             // Exit: the motion after it is flight; locate the last touch backwards from here.
+            let surface_flat = self.surface().is_flat();
             let sstar = self.bisect_crossing(&s, h, false);
             let at = flight(&self.stone, physics.rotation, physics.gravity, &s, -sstar);
             if let Some(ev) = self.motion.contacts.last_mut() {
                 if ev.open {
                     ev.open = false;
-                    ev.skip = true;
                     ev.t_end = t - sstar;
                     ev.v_out = at.velocity.to_array();
                     ev.attitude_out = reported_attitude(at.orientation, at.velocity);
+                    // On a moving surface, turned upward by the water: a skip; else a graze
+                    // (see `ContactEvent`). On flat water every exit is a skip.
+                    ev.graze = !surface_flat && ev.v_out[2] <= ev.v_in[2];
+                    ev.skip = !ev.graze;
                 }
             }
         }
