@@ -24,6 +24,7 @@ mod overlays;
 mod panels;
 mod platform;
 pub mod replay;
+pub mod soak;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -59,7 +60,18 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
             why.trim_end_matches('.')
         )
     })?;
+    let soak = match options.soak {
+        Some(n) => Some(soak::Soak::new(
+            n,
+            model.library.shipped.clone(),
+            options.soak_csv.clone(),
+        )?),
+        None => None,
+    };
     let mut app = App {
+        soak,
+        faults: options.faults.clone(),
+        recoveries: Default::default(),
         title: model.title(),
         model,
         options,
