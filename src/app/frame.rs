@@ -100,7 +100,8 @@ impl App {
             return;
         };
         let model = &mut self.model;
-        let running = model.phase == Phase::Running && !model.resting;
+        let over = model.resting || (self.options.soak_until_outcome && model.sim.is_finished());
+        let running = model.phase == Phase::Running && !over;
         if soak.started > 0 {
             soak.frame(1000.0 * f.frame, 1000.0 * f.real_dt);
             let cut = soak.frames() >= MAX_THROW_FRAMES;
@@ -113,15 +114,19 @@ impl App {
                 .outcome()
                 .map_or_else(|| "no outcome".to_owned(), outcome_words);
             soak.finish_throw(&preset, model.sim.time(), outcome, running);
+            // Written after every throw: a soak stopped early keeps its rows.
+            if let Err(e) = soak.write() {
+                self.fatal = Some(e.context("the soak's CSV"));
+                self.soak = None;
+                event_loop.exit();
+                return;
+            }
             if soak.rows.len() % 50 == 0 {
                 eprintln!("{}", soak.summary());
             }
         }
         if soak.done() {
-            match soak.write() {
-                Ok(p) => eprintln!("{}; rows in {}", soak.summary(), p.display()),
-                Err(e) => self.fatal = Some(e.context("the soak's CSV")),
-            }
+            eprintln!("{}; rows in {}", soak.summary(), soak.csv().display());
             self.soak = None;
             event_loop.exit();
             return;

@@ -14,6 +14,7 @@
 //! | `STONESKIP_OUTPUT_DIR=DIR` | where exports and screenshots go (default: the user's folders) |
 //! | `STONESKIP_REQUIRE_DISPLAY=1` | (tests) no display is an error, not a skip |
 //! | `STONESKIP_SOAK=N` | the soak: N automatic throws, cycling through the shipped presets |
+//! | `STONESKIP_SOAK_UNTIL=outcome` | a soak throw ends at its outcome, not when the app rests |
 //! | `STONESKIP_SOAK_CSV=FILE` | where the soak writes its per-throw rows (default `stoneskip-soak.csv`) |
 //! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost` |
 
@@ -38,6 +39,8 @@ pub struct Options {
     /// Automatic throws of the soak (1 to 10⁶).
     pub soak: Option<u64>,
     pub soak_csv: PathBuf,
+    /// A soak throw ends at its outcome (not at rest).
+    pub soak_until_outcome: bool,
     /// GPU faults to inject, in frame order.
     pub faults: Vec<Fault>,
 }
@@ -72,6 +75,7 @@ impl Default for Options {
             output_dir: None,
             soak: None,
             soak_csv: PathBuf::from("stoneskip-soak.csv"),
+            soak_until_outcome: false,
             faults: Vec::new(),
         }
     }
@@ -115,6 +119,7 @@ impl Options {
             soak_csv: get("STONESKIP_SOAK_CSV")
                 .filter(|v| !v.trim().is_empty())
                 .map_or(d.soak_csv, PathBuf::from),
+            soak_until_outcome: get("STONESKIP_SOAK_UNTIL").is_some_and(|v| v.trim() == "outcome"),
             faults: get("STONESKIP_FAULT")
                 .map(|v| parse_faults(&v))
                 .unwrap_or_default(),
@@ -192,10 +197,12 @@ mod tests {
         let o = with(&[
             ("STONESKIP_SOAK", "500"),
             ("STONESKIP_SOAK_CSV", "/tmp/s.csv"),
+            ("STONESKIP_SOAK_UNTIL", "outcome"),
             ("STONESKIP_FAULT", "device_lost@30, surface_lost@10,bogus@3,device_lost@x"),
         ]);
         assert_eq!(o.soak, Some(500));
         assert_eq!(o.soak_csv, PathBuf::from("/tmp/s.csv"));
+        assert!(o.soak_until_outcome);
         assert_eq!(
             o.faults,
             vec![

@@ -3,8 +3,8 @@
 //! clock's top speed. Per throw it records the resident memory after it (`VmRSS` of
 //! `/proc/self/status`) and the median and largest frame time, and writes them as CSV when done
 //! (`STONESKIP_SOAK_CSV`). A throw ends where the app would rest (the run over and the rings calm,
-//! or [`super::model::REST_AFTER`] simulated seconds after the outcome), or after
-//! [`MAX_THROW_FRAMES`] frames.
+//! or [`super::model::REST_AFTER`] simulated seconds after the outcome) — or at its outcome with
+//! `STONESKIP_SOAK_UNTIL=outcome` — or after [`MAX_THROW_FRAMES`] frames.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -124,6 +124,10 @@ impl Soak {
         std::fs::write(&self.csv, to_csv(&self.rows))
             .with_context(|| format!("writing {}", self.csv.display()))?;
         Ok(self.csv.clone())
+    }
+
+    pub fn csv(&self) -> &Path {
+        &self.csv
     }
 
     /// One line for stderr at the end.
