@@ -68,7 +68,8 @@ fn soak(count: u64, budget_s: f64) -> Tally {
                 .cloned()
                 .or_else(|| e.downcast_ref::<&str>().map(|s| (*s).to_owned()))
                 .unwrap_or_default();
-            t.failures.push((i, why.lines().next().unwrap_or("").to_owned()));
+            t.failures
+                .push((i, why.lines().next().unwrap_or("").to_owned()));
         }
         if t.inputs % 10_000 == 0 {
             eprintln!(

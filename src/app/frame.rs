@@ -181,7 +181,7 @@ impl App {
     }
 
     /// The `--frames` report line.
-    fn report(&self) -> String {
+    pub(super) fn report(&self) -> String {
         let model = &self.model;
         let st = &model.stats;
         let n = st.frames.max(1) as f64;

@@ -60,6 +60,11 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
             why.trim_end_matches('.')
         )
     })?;
+    // Ctrl+C (SIGINT) ends the app cleanly, with its report: the event loop is woken to exit.
+    let proxy = event_loop.create_proxy();
+    let _ = ctrlc::set_handler(move || {
+        let _ = proxy.send_event(());
+    });
     let soak = match options.soak {
         Some(n) => Some(soak::Soak::new(
             n,

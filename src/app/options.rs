@@ -198,7 +198,10 @@ mod tests {
             ("STONESKIP_SOAK", "500"),
             ("STONESKIP_SOAK_CSV", "/tmp/s.csv"),
             ("STONESKIP_SOAK_UNTIL", "outcome"),
-            ("STONESKIP_FAULT", "device_lost@30, surface_lost@10,bogus@3,device_lost@x"),
+            (
+                "STONESKIP_FAULT",
+                "device_lost@30, surface_lost@10,bogus@3,device_lost@x",
+            ),
         ]);
         assert_eq!(o.soak, Some(500));
         assert_eq!(o.soak_csv, PathBuf::from("/tmp/s.csv"));

@@ -465,6 +465,15 @@ impl ApplicationHandler for App {
         }
     }
 
+    /// An interrupt (SIGINT, see [`super::run_app`]): exit 0, with the frame report when asked.
+    fn user_event(&mut self, event_loop: &ActiveEventLoop, _event: ()) {
+        eprintln!("stoneskip: interrupted after {} frames", self.frames_drawn);
+        if self.options.fps_report {
+            eprintln!("{}", self.report());
+        }
+        event_loop.exit();
+    }
+
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         let Some(gfx) = self.gfx.as_ref() else {
             return;

@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, Context as _, Result};
 
-/// Playback speed of the soak's throws (the clock's top speed).
-pub const SOAK_SPEED: f64 = 8.0;
+/// Playback speed of the soak's throws: the panel's top speed (its slider clamps to 4×).
+pub const SOAK_SPEED: f64 = 4.0;
 /// A throw that has not come to rest after this many frames is cut short (and counted).
 pub const MAX_THROW_FRAMES: usize = 5_000;
 
@@ -133,11 +133,7 @@ impl Soak {
     /// One line for stderr at the end.
     pub fn summary(&self) -> String {
         let rss = |i: usize| self.rows.get(i).map_or(f64::NAN, |r| r.rss_mb);
-        let worst = self
-            .rows
-            .iter()
-            .map(|r| r.frame_max_ms)
-            .fold(0.0, f64::max);
+        let worst = self.rows.iter().map(|r| r.frame_max_ms).fold(0.0, f64::max);
         let cut = self.rows.iter().filter(|r| r.cut).count();
         format!(
             "stoneskip soak: {} throws over {} presets; resident {:.1} MB after throw 1, {:.1} MB after throw {}, {:.1} MB after the last; worst frame {:.1} ms; {cut} cut short",
