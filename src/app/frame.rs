@@ -121,7 +121,7 @@ impl App {
                 event_loop.exit();
                 return;
             }
-            if soak.rows.len() % 50 == 0 {
+            if soak.rows.len().is_multiple_of(50) {
                 eprintln!("{}", soak.summary());
             }
         }
