@@ -84,6 +84,22 @@ fn gui_recovers_from_a_lost_surface_and_a_lost_device() {
 }
 
 #[test]
+fn an_error_on_a_live_device_is_one_message_and_a_failure() {
+    if !display_available() {
+        return;
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_stoneskip"))
+        .args(["gui", "--frames", "30"])
+        .env("STONESKIP_FAULT", "gpu_error@5")
+        .output()
+        .expect("the stoneskip binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("the GPU reported an error on"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
 fn a_broken_preset_is_refused_with_its_location() {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("broken.ron");

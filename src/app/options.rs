@@ -16,7 +16,7 @@
 //! | `STONESKIP_SOAK=N` | the soak: N automatic throws, cycling through the shipped presets |
 //! | `STONESKIP_SOAK_UNTIL=outcome` | a soak throw ends at its outcome, not when the app rests |
 //! | `STONESKIP_SOAK_CSV=FILE` | where the soak writes its per-throw rows (default `stoneskip-soak.csv`) |
-//! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost` |
+//! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost`, `gpu_error` |
 
 use std::path::PathBuf;
 
@@ -59,6 +59,8 @@ pub enum FaultKind {
     DeviceLost,
     /// The next `get_current_texture` is treated as `Lost` (the surface is reconfigured).
     SurfaceLost,
+    /// An invalid call on a live device (a validation error nobody catches): reported, fatal.
+    GpuError,
 }
 
 impl Default for Options {
@@ -136,6 +138,7 @@ fn parse_faults(v: &str) -> Vec<Fault> {
             let kind = match kind.trim() {
                 "device_lost" => FaultKind::DeviceLost,
                 "surface_lost" => FaultKind::SurfaceLost,
+                "gpu_error" => FaultKind::GpuError,
                 _ => return None,
             };
             let frame = frame.trim().parse::<u64>().ok()?;

@@ -98,9 +98,11 @@ impl DeviceWatch {
         watch
     }
 
+    /// Keeps the first message, on one line (wgpu's errors span several).
     fn note(&self, text: String) {
+        let line = text.split_whitespace().collect::<Vec<_>>().join(" ");
         if let Ok(mut m) = self.message.lock() {
-            m.get_or_insert(text);
+            m.get_or_insert(line);
         }
     }
 
@@ -320,6 +322,15 @@ impl Gfx {
                 let _ = self.gpu.device.poll(wgpu::PollType::Poll);
             }
             FaultKind::SurfaceLost => self.surface_lost = true,
+            FaultKind::GpuError => {
+                // Mapping for both reading and writing is invalid without a feature.
+                let _ = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("injected fault"),
+                    size: 4,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+                    mapped_at_creation: false,
+                });
+            }
         }
     }
 }
@@ -512,8 +523,11 @@ mod tests {
     fn device_watch_records_the_first_message() {
         let w = DeviceWatch::default();
         assert_eq!(w.message(), "no message");
-        w.note("Destroyed: device destroyed".into());
+        w.note("Validation Error\n\nCaused by:\n  In Device::create_buffer\n".into());
         w.note("later".into());
-        assert_eq!(w.message(), "Destroyed: device destroyed");
+        assert_eq!(
+            w.message(),
+            "Validation Error Caused by: In Device::create_buffer"
+        );
     }
 }
