@@ -24,8 +24,13 @@ fn display_available() -> bool {
 }
 
 fn run_gui(frames: u32, view: &str) -> String {
+    run_gui_with(frames, view, &[])
+}
+
+fn run_gui_with(frames: u32, view: &str, env: &[(&str, &str)]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_stoneskip"))
         .args(["gui", "--frames", &frames.to_string()])
+        .envs(env.iter().copied())
         .env("STONESKIP_AUTOTHROW", "1")
         .env("STONESKIP_FPS_REPORT", "1")
         .env("STONESKIP_VIEW", view)
@@ -57,6 +62,41 @@ fn gui_renders_frames_in_every_view_and_exits_cleanly() {
     for view in ["behind", "side", "top"] {
         run_gui(12, view);
     }
+}
+
+#[test]
+fn gui_recovers_from_a_lost_surface_and_a_lost_device() {
+    if !display_available() {
+        return;
+    }
+    // The surface is dropped unpresented at frame 10 and reconfigured; the device is destroyed
+    // at frame 20 and the GPU context rebuilt on the same window; the run goes on to frame 45.
+    let report = run_gui_with(
+        45,
+        "follow",
+        &[("STONESKIP_FAULT", "surface_lost@10,device_lost@20")],
+    );
+    assert!(report.contains("rebuilt on"), "{report}");
+    // At least the injected surface loss (a resize can add an `Outdated` one).
+    assert!(report.contains("recovered: 1 lost devices, "), "{report}");
+    assert!(!report.contains(" 0 lost surfaces"), "{report}");
+    assert!(!report.contains(" 0 ticks"), "{report}");
+}
+
+#[test]
+fn an_error_on_a_live_device_is_one_message_and_a_failure() {
+    if !display_available() {
+        return;
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_stoneskip"))
+        .args(["gui", "--frames", "30"])
+        .env("STONESKIP_FAULT", "gpu_error@5")
+        .output()
+        .expect("the stoneskip binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("the GPU reported an error on"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
 #[test]

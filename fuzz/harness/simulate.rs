@@ -130,7 +130,7 @@ fn water(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
     Ok(())
 }
 
-fn preset(u: &mut Unstructured) -> Result<Preset> {
+pub fn preset(u: &mut Unstructured) -> Result<Preset> {
     let mut p = Preset::default();
     stone(u, &mut p)?;
     launch(u, &mut p)?;

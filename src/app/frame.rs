@@ -10,15 +10,19 @@ use anyhow::{anyhow, Context as _, Result};
 use winit::event_loop::ActiveEventLoop;
 
 use super::files;
-use super::model::{Model, Shot};
-use super::platform::{App, Gfx};
+use super::model::{outcome_words, Model, Shot};
+use super::platform::{App, Gfx, Recoveries};
 use super::redraw::{self, PanelTiles};
+use super::soak::{MAX_THROW_FRAMES, SOAK_SPEED};
 use crate::render::offscreen::read_rgba8;
 use crate::render::Viewport;
 use crate::ui::{Message, Phase};
 
 impl App {
     pub(super) fn frame(&mut self, event_loop: &ActiveEventLoop) {
+        if !self.gpu_checks(event_loop) {
+            return;
+        }
         let Some(gfx) = self.gfx.as_mut() else {
             return;
         };
@@ -66,7 +70,14 @@ impl App {
         let prims = gfx
             .egui_ctx
             .tessellate(std::mem::take(&mut full.shapes), ppp);
-        let result = draw(gfx, model, &prims, &mut full.textures_delta, ppp);
+        let result = draw(
+            gfx,
+            model,
+            &prims,
+            &mut full.textures_delta,
+            ppp,
+            &mut self.recoveries,
+        );
         if let Err(e) = result {
             self.fatal = Some(e);
             event_loop.exit();
@@ -79,11 +90,56 @@ impl App {
             render: render_s,
             ui: ui_s,
         };
-        self.account(timing, event_loop);
+        self.account(&timing, event_loop);
+        self.soak_step(&timing, event_loop);
+    }
+
+    /// The soak (`STONESKIP_SOAK`): records the frame; once the throw rests (or runs too long),
+    /// closes its row, loads the next shipped preset and throws it; writes the CSV at the end.
+    fn soak_step(&mut self, f: &FrameTimes, event_loop: &ActiveEventLoop) {
+        let Some(soak) = self.soak.as_mut() else {
+            return;
+        };
+        let model = &mut self.model;
+        let over = model.resting || (self.options.soak_until_outcome && model.sim.is_finished());
+        let running = model.phase == Phase::Running && !over;
+        if soak.started > 0 {
+            soak.frame(1000.0 * f.frame, 1000.0 * f.real_dt);
+            let cut = soak.frames() >= MAX_THROW_FRAMES;
+            if running && !cut {
+                return;
+            }
+            let preset = model.library.current.clone().unwrap_or_default();
+            let outcome = model
+                .sim
+                .outcome()
+                .map_or_else(|| "no outcome".to_owned(), outcome_words);
+            soak.finish_throw(&preset, model.sim.time(), outcome, running);
+            // Written after every throw: a soak stopped early keeps its rows.
+            if let Err(e) = soak.write() {
+                self.fatal = Some(e.context("the soak's CSV"));
+                self.soak = None;
+                event_loop.exit();
+                return;
+            }
+            if soak.rows.len().is_multiple_of(50) {
+                eprintln!("{}", soak.summary());
+            }
+        }
+        if soak.done() {
+            eprintln!("{}; rows in {}", soak.summary(), soak.csv().display());
+            self.soak = None;
+            event_loop.exit();
+            return;
+        }
+        let next = soak.next_preset();
+        model.load_preset(&next);
+        model.clock.set_speed(SOAK_SPEED);
+        model.throw();
     }
 
     /// Smoothed frame times for the panel (idle time never counts) and the `--frames` report.
-    fn account(&mut self, f: FrameTimes, event_loop: &ActiveEventLoop) {
+    fn account(&mut self, f: &FrameTimes, event_loop: &ActiveEventLoop) {
         let model = &mut self.model;
         let smooth = |old: f64, new: f64| {
             if old == 0.0 {
@@ -126,7 +182,7 @@ impl App {
     }
 
     /// The `--frames` report line.
-    fn report(&self) -> String {
+    pub(super) fn report(&self) -> String {
         let model = &self.model;
         let st = &model.stats;
         let n = st.frames.max(1) as f64;
@@ -136,7 +192,7 @@ impl App {
             .map_or((0, 0), |g| (g.config.width, g.config.height));
         let adapter = self.gfx.as_ref().map_or("", |g| g.adapter.as_str());
         format!(
-            "stoneskip: {} frames at {w}x{h}; mean over the last {}: {:.1} fps ({:.2} ms a frame): physics {:.2} ms, water {:.2} ms, render {:.2} ms ({} full redraws at {:.2} ms, the rest {:.2} ms), panels {:.2} ms; {} ticks, {:.3} s simulated, {:.3} s dropped; render scale {:.2}; {}",
+            "stoneskip: {} frames at {w}x{h}; mean over the last {}: {:.1} fps ({:.2} ms a frame): physics {:.2} ms, water {:.2} ms, render {:.2} ms ({} full redraws at {:.2} ms, the rest {:.2} ms), panels {:.2} ms; {} ticks, {:.3} s simulated, {:.3} s dropped; render scale {:.2}; recovered: {} lost devices, {} lost surfaces, {} frames without a surface; {}",
             self.frames_drawn,
             st.frames,
             n / st.wall.max(1e-9),
@@ -152,6 +208,9 @@ impl App {
             model.sim.time(),
             model.clock.skipped_total(),
             model.view.render_scale,
+            self.recoveries.devices,
+            self.recoveries.surfaces,
+            self.recoveries.skipped,
             adapter
         )
     }
@@ -182,6 +241,7 @@ fn draw(
     prims: &[egui::ClippedPrimitive],
     textures: &mut egui::TexturesDelta,
     ppp: f32,
+    recoveries: &mut Recoveries,
 ) -> Result<()> {
     let device = &gfx.gpu.device;
     let queue = &gfx.gpu.queue;
@@ -191,17 +251,36 @@ fn draw(
             gfx.egui_renderer.update_texture(device, queue, id, &d);
         }
     }
-    let frame = match gfx.surface.get_current_texture() {
+    let mut current = gfx.surface.get_current_texture();
+    if std::mem::take(&mut gfx.surface_lost) {
+        // Fault injection: the frame acquired is dropped unpresented, as a lost surface's would be.
+        current = wgpu::CurrentSurfaceTexture::Lost;
+    }
+    let frame = match current {
         wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => {
             Some(f)
         }
         wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+            // Drawn again next frame, on the reconfigured surface.
             gfx.surface.configure(device, &gfx.config);
+            recoveries.surfaces += 1;
             None
         }
-        wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => None,
+        wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+            recoveries.skipped += 1;
+            None
+        }
         wgpu::CurrentSurfaceTexture::Validation => {
-            return Err(anyhow!("the window's surface failed validation"));
+            if gfx.watch.lost.load(std::sync::atomic::Ordering::Acquire) {
+                // The device went: the next frame rebuilds it.
+                None
+            } else {
+                return Err(anyhow!(
+                    "the window's surface failed validation on {}: {}",
+                    gfx.adapter,
+                    gfx.watch.message()
+                ));
+            }
         }
     };
     if let Some(frame) = frame {

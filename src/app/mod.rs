@@ -25,6 +25,7 @@ mod panels;
 mod platform;
 mod redraw;
 pub mod replay;
+pub mod soak;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -60,7 +61,23 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
             why.trim_end_matches('.')
         )
     })?;
+    // Ctrl+C (SIGINT) ends the app cleanly, with its report: the event loop is woken to exit.
+    let proxy = event_loop.create_proxy();
+    let _ = ctrlc::set_handler(move || {
+        let _ = proxy.send_event(());
+    });
+    let soak = match options.soak {
+        Some(n) => Some(soak::Soak::new(
+            n,
+            model.library.shipped.clone(),
+            options.soak_csv.clone(),
+        )?),
+        None => None,
+    };
     let mut app = App {
+        soak,
+        faults: options.faults.clone(),
+        recoveries: Default::default(),
         title: model.title(),
         model,
         options,

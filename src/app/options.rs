@@ -13,6 +13,10 @@
 //! | `STONESKIP_EXAGGERATE=N` | the side view's vertical exaggeration (1, 5, 10 or 20) |
 //! | `STONESKIP_OUTPUT_DIR=DIR` | where exports and screenshots go (default: the user's folders) |
 //! | `STONESKIP_REQUIRE_DISPLAY=1` | (tests) no display is an error, not a skip |
+//! | `STONESKIP_SOAK=N` | the soak: N automatic throws, cycling through the shipped presets |
+//! | `STONESKIP_SOAK_UNTIL=outcome` | a soak throw ends at its outcome, not when the app rests |
+//! | `STONESKIP_SOAK_CSV=FILE` | where the soak writes its per-throw rows (default `stoneskip-soak.csv`) |
+//! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost`, `gpu_error` |
 
 use std::path::PathBuf;
 
@@ -32,6 +36,31 @@ pub struct Options {
     pub view: Option<ViewMode>,
     pub exaggeration: Option<f32>,
     pub output_dir: Option<PathBuf>,
+    /// Automatic throws of the soak (1 to 10⁶).
+    pub soak: Option<u64>,
+    pub soak_csv: PathBuf,
+    /// A soak throw ends at its outcome (not at rest).
+    pub soak_until_outcome: bool,
+    /// GPU faults to inject, in frame order.
+    pub faults: Vec<Fault>,
+}
+
+/// A GPU fault the app injects into itself (`STONESKIP_FAULT`), to test its recovery.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Fault {
+    pub kind: FaultKind,
+    /// The frame (counted from 0) before which it strikes.
+    pub frame: u64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaultKind {
+    /// `device.destroy()`: the device is lost as if the driver had reset.
+    DeviceLost,
+    /// The next `get_current_texture` is treated as `Lost` (the surface is reconfigured).
+    SurfaceLost,
+    /// An invalid call on a live device (a validation error nobody catches): reported, fatal.
+    GpuError,
 }
 
 impl Default for Options {
@@ -46,6 +75,10 @@ impl Default for Options {
             view: None,
             exaggeration: None,
             output_dir: None,
+            soak: None,
+            soak_csv: PathBuf::from("stoneskip-soak.csv"),
+            soak_until_outcome: false,
+            faults: Vec::new(),
         }
     }
 }
@@ -82,8 +115,38 @@ impl Options {
             output_dir: get("STONESKIP_OUTPUT_DIR")
                 .filter(|v| !v.trim().is_empty())
                 .map(PathBuf::from),
+            soak: get("STONESKIP_SOAK")
+                .and_then(|v| v.trim().parse::<u64>().ok())
+                .filter(|n| (1..=1_000_000).contains(n)),
+            soak_csv: get("STONESKIP_SOAK_CSV")
+                .filter(|v| !v.trim().is_empty())
+                .map_or(d.soak_csv, PathBuf::from),
+            soak_until_outcome: get("STONESKIP_SOAK_UNTIL").is_some_and(|v| v.trim() == "outcome"),
+            faults: get("STONESKIP_FAULT")
+                .map(|v| parse_faults(&v))
+                .unwrap_or_default(),
         }
     }
+}
+
+/// "device_lost@30,surface_lost@10" → the faults sorted by frame; unknown entries are ignored.
+fn parse_faults(v: &str) -> Vec<Fault> {
+    let mut faults: Vec<Fault> = v
+        .split(',')
+        .filter_map(|f| {
+            let (kind, frame) = f.trim().split_once('@')?;
+            let kind = match kind.trim() {
+                "device_lost" => FaultKind::DeviceLost,
+                "surface_lost" => FaultKind::SurfaceLost,
+                "gpu_error" => FaultKind::GpuError,
+                _ => return None,
+            };
+            let frame = frame.trim().parse::<u64>().ok()?;
+            Some(Fault { kind, frame })
+        })
+        .collect();
+    faults.sort_by_key(|f| f.frame);
+    faults
 }
 
 /// "1280x720" → (1280, 720), within 320–8192 × 240–8192.
@@ -130,5 +193,36 @@ mod tests {
             ("STONESKIP_RENDER_SCALE", "nan"),
         ]);
         assert_eq!(bad, Options::default());
+    }
+
+    #[test]
+    fn soak_and_faults_parse() {
+        let o = with(&[
+            ("STONESKIP_SOAK", "500"),
+            ("STONESKIP_SOAK_CSV", "/tmp/s.csv"),
+            ("STONESKIP_SOAK_UNTIL", "outcome"),
+            (
+                "STONESKIP_FAULT",
+                "device_lost@30, surface_lost@10,bogus@3,device_lost@x",
+            ),
+        ]);
+        assert_eq!(o.soak, Some(500));
+        assert_eq!(o.soak_csv, PathBuf::from("/tmp/s.csv"));
+        assert!(o.soak_until_outcome);
+        assert_eq!(
+            o.faults,
+            vec![
+                Fault {
+                    kind: FaultKind::SurfaceLost,
+                    frame: 10
+                },
+                Fault {
+                    kind: FaultKind::DeviceLost,
+                    frame: 30
+                },
+            ]
+        );
+        assert_eq!(with(&[("STONESKIP_SOAK", "0")]).soak, None);
+        assert_eq!(with(&[("STONESKIP_SOAK", "-3")]).soak, None);
     }
 }
