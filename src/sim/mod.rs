@@ -298,6 +298,35 @@ pub struct Simulation {
     volume_initial: f64,
     launch_position: DVec3,
     motion: Motion,
+    /// The tick begun by [`Simulation::tick_until`] and not yet finished (it yielded inside).
+    open_tick: Option<OpenTick>,
+}
+
+/// A tick in progress: its target time, its length and its step guard, so that the next call of
+/// [`Simulation::tick_until`] continues the same tick exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct OpenTick {
+    t_end: f64,
+    dt: f64,
+    /// Steps taken in this tick so far (against [`MAX_STEPS_PER_TICK`]).
+    steps: u32,
+}
+
+/// How far a call of [`Simulation::tick_until`] got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TickProgress {
+    /// The tick is complete: the stone reached its end (or its outcome) and the water advanced.
+    Done,
+    /// The caller asked to yield between two steps of the stone; the next call continues the tick.
+    Partial,
+}
+
+/// How far the stone got towards the tick's end.
+enum StoneProgress {
+    /// Reached the tick's end or the outcome.
+    Reached,
+    /// Yielded after this many steps of the tick.
+    Yielded(u32),
 }
 
 impl Simulation {
@@ -355,6 +384,7 @@ impl Simulation {
             },
             stone,
             water,
+            open_tick: None,
         };
         sim.refresh_water_max();
         let clearance = sim.clearance(&state);
@@ -497,13 +527,56 @@ impl Simulation {
     }
 
     /// Advances by one tick, calling `on_step` after every accepted step of the stone. After the
-    /// outcome the stone stays where it ended and only the water moves on.
+    /// outcome the stone stays where it ended and only the water moves on. A tick that never
+    /// yields: it also completes a tick left open by [`Simulation::tick_until`].
     pub fn tick_with(&mut self, on_step: &mut dyn FnMut(&StepSample)) {
-        let dt = self.preset.physics.dt;
-        let t_end = self.motion.time + dt;
+        self.tick_until(on_step, &|_| false);
+    }
+
+    /// A tick that can stop early: `should_yield`, given the run's cost so far ([`Simulation::cost`]:
+    /// accepted steps, force evaluations), is polled after every accepted step of the stone that
+    /// leaves the tick unfinished (never inside a step, and never before the call's first step, so
+    /// every call makes progress). When it says yield, the call returns
+    /// [`TickProgress::Partial`] with the tick's target time and step guard kept, and the next call
+    /// continues that same tick: a tick split over any number of calls gives bit-identical results
+    /// to [`Simulation::tick_with`]. The water advances only once the stone's part of the tick is
+    /// complete. The closure is how a caller brings in a wall clock; the simulation reads none.
+    ///
+    /// A tick once begun keeps its length even if [`Simulation::set_physics`] changes `dt` before
+    /// it is complete; the new `dt` applies from the next tick.
+    pub fn tick_until(
+        &mut self,
+        on_step: &mut dyn FnMut(&StepSample),
+        should_yield: &dyn Fn((u64, u64)) -> bool,
+    ) -> TickProgress {
+        let tick = self.open_tick.take().unwrap_or_else(|| {
+            let dt = self.preset.physics.dt;
+            OpenTick {
+                t_end: self.motion.time + dt,
+                dt,
+                steps: 0,
+            }
+        });
         if !self.is_finished() {
-            self.advance_stone(t_end, on_step);
+            if let StoneProgress::Yielded(steps) =
+                self.advance_stone(tick.t_end, tick.steps, on_step, should_yield)
+            {
+                self.open_tick = Some(OpenTick { steps, ..tick });
+                return TickProgress::Partial;
+            }
         }
+        self.finish_tick(tick.t_end, tick.dt);
+        TickProgress::Done
+    }
+
+    /// A tick began and not yet complete (a [`Simulation::tick_until`] that yielded).
+    pub fn tick_in_progress(&self) -> bool {
+        self.open_tick.is_some()
+    }
+
+    /// The end of a tick once the stone is at `t_end`: the timeout, then the water's step of `dt`
+    /// with the stone's impulses of the tick.
+    fn finish_tick(&mut self, t_end: f64, dt: f64) {
         self.motion.time = t_end;
         if !self.is_finished() && self.motion.time >= self.preset.physics.max_time - 1e-12 {
             self.finish(Outcome::Timeout);
@@ -542,7 +615,10 @@ impl Simulation {
         }
         let Some(w) = &self.water else { return };
         let s = &self.motion.state;
-        let dt = self.preset.physics.dt;
+        // Inside an open tick (a live change of the physics) the rest of that tick, too.
+        let dt = self
+            .open_tick
+            .map_or(self.preset.physics.dt, |t| t.dt.max(self.preset.physics.dt));
         let speed = s.velocity.length() + self.preset.physics.gravity * dt;
         let reach = self.stone.bounding_radius + 2.0 * speed * dt + 2.0 * w.cell();
         let (m, slope) = local_bounds(w, s.position.x, s.position.y, reach);
@@ -608,17 +684,29 @@ impl Simulation {
         self.finish(Outcome::Diverged);
     }
 
-    /// Steps the stone until `t_end` or its outcome.
-    fn advance_stone(&mut self, t_end: f64, on_step: &mut dyn FnMut(&StepSample)) {
-        let mut guard = 0u32;
+    /// Steps the stone until `t_end` or its outcome, `steps` steps of the tick having been taken
+    /// before; after every step that leaves the tick unfinished, yields if `should_yield` says so.
+    fn advance_stone(
+        &mut self,
+        t_end: f64,
+        steps: u32,
+        on_step: &mut dyn FnMut(&StepSample),
+        should_yield: &dyn Fn((u64, u64)) -> bool,
+    ) -> StoneProgress {
+        let mut guard = steps;
+        let mut first = true;
         while self.motion.time < t_end && self.motion.outcome.is_none() {
+            if !first && should_yield((self.motion.steps, self.motion.force_evals)) {
+                return StoneProgress::Yielded(guard);
+            }
+            first = false;
             guard += 1;
             if guard > MAX_STEPS_PER_TICK {
                 self.diverge(format!(
                     "more than {MAX_STEPS_PER_TICK} steps in one tick at t = {:.6} s (a runaway step loop)",
                     self.motion.time
                 ));
-                return;
+                return StoneProgress::Reached;
             }
             let prev = self.motion.state;
             let t0 = self.motion.time;
@@ -632,7 +720,7 @@ impl Simulation {
                      (unstable at this step; a smaller dt or the Adaptive integrator avoids it)",
                     self.preset.physics.integrator, step.h
                 ));
-                return;
+                return StoneProgress::Reached;
             }
             if step.contact {
                 let j = water_impulse(
@@ -650,6 +738,7 @@ impl Simulation {
             self.motion.last_force = step.force;
             self.after_step(&prev, step.h, step.sunk, on_step);
         }
+        StoneProgress::Reached
     }
 
     /// One step of at most `h_max` with the preset's integrator: exact flight, or a contact step
