@@ -252,6 +252,7 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
     let mut model = Model::new(p.clone(), None, Default::default()).unwrap();
     model.budget = FrameBudget {
         wall: Duration::from_secs(3600),
+        wall_behind: Duration::from_secs(3600),
         force_evals: BUDGET,
     };
     model.throw();
@@ -318,6 +319,7 @@ fn a_normal_throw_runs_every_tick_whole() {
     let p = wavy_throw(Integrator::Adaptive);
     let mut model = Model::new(p.clone(), None, Default::default()).unwrap();
     model.budget.wall = Duration::from_secs(3600);
+    model.budget.wall_behind = Duration::from_secs(3600);
     model.throw();
     let mut frames = 0u64;
     let mut worst = 0;
@@ -372,4 +374,94 @@ fn running_behind_clears_once_the_physics_keeps_up() {
     pace.record(0.125, 0.0, true);
     assert_eq!(pace.behind(), Some(f64::INFINITY));
     assert!(stoneskip::ui::behind_words(f64::INFINITY, 1.0).contains("no simulated time"));
+}
+
+/// Finding S1's first input (fuzz/slow/simulate/s1-free-plate-tolerance-3e-10, as the fuzz
+/// harness builds it): a 60 cm, 3 kg plate launched half under water at a 75° tilt, spinning at
+/// 75 rev/s with 100 rad/s about every axis, free rotation, Adaptive at 3.5·10⁻¹⁰, 50 µs ticks,
+/// no water grid: 6.3·10⁸ force evaluations per simulated second.
+fn s1() -> Preset {
+    let mut p = Preset::default();
+    p.stone.shape = Shape::Plate {
+        length: 0.5999999655643478,
+        width: 0.6,
+        thickness: 0.1,
+    };
+    p.stone.mass = 3.000000000000001;
+    p.stone.segments = 21;
+    let l = &mut p.launch;
+    l.position = [50.0, 50.0, 0.0];
+    l.velocity = [
+        2.1648901405887335e-17,
+        0.3535533905932738,
+        0.35355339059327373,
+    ];
+    l.attitude = Attitude {
+        tilt_deg: 75.0,
+        bank_deg: 60.0,
+        heading_deg: 180.0,
+    };
+    l.spin = 471.23889803846896;
+    l.angular_velocity = [100.0; 3];
+    let ph = &mut p.physics;
+    ph.gravity = 30.0;
+    ph.water_density = 3000.0;
+    ph.force_law = ForceLaw::Rosellini;
+    ph.lift_coefficient = Some(5.0);
+    ph.friction_coefficient = Some(2.0);
+    ph.ventilated = true;
+    ph.integrator = Integrator::Adaptive;
+    ph.tolerance = 3.522914625643156e-10;
+    ph.rotation = Rotation::Free;
+    ph.pressure_centre = PressureCentre::Faces;
+    ph.dt = 5.000000000000004e-5;
+    ph.max_time = 0.01;
+    p.water.enabled = false;
+    p.water.size = [2.0, 2.0];
+    p.water.cell = 0.02;
+    p.water.depth = 0.02;
+    p
+}
+
+/// The frame times docs/reliability.md reports ("Cost guard"): the app model on both S1 inputs
+/// with the default budget, each frame fed the real time of the one before (as the app does).
+/// A measurement, not a test: wall-clock figures depend on the machine.
+#[test]
+#[ignore = "a measurement: cargo test --release --test cost_guard -- --ignored --nocapture"]
+fn measure_frame_times_on_s1() {
+    const FRAMES: usize = 120;
+    for (name, p) in [("s1", s1()), ("s1b", s1b())] {
+        if let Ok(dir) = std::env::var("STONESKIP_GUARD_PRESETS") {
+            let path = std::path::Path::new(&dir).join(format!("{name}.ron"));
+            stoneskip::preset::save(&path, &p).unwrap();
+        }
+        let mut model = Model::new(p.clone(), None, Default::default()).unwrap();
+        model.throw();
+        let mut times = Vec::new();
+        let mut gap = 1.0 / 60.0;
+        let (_, e0) = model.sim.cost();
+        for _ in 0..FRAMES {
+            let start = std::time::Instant::now();
+            model.advance(gap);
+            gap = start.elapsed().as_secs_f64();
+            times.push(gap);
+        }
+        let evals = model.sim.cost().1 - e0;
+        let wall: f64 = times.iter().sum();
+        times.sort_by(f64::total_cmp);
+        let behind = model.running_behind();
+        println!(
+            "{name}: {FRAMES} frames, advance median {:.1} ms, max {:.1} ms, min {:.1} ms; \
+             {:.3} ms simulated in {wall:.2} s ({:.0}× slower), {} ticks, {evals} evaluations \
+             ({:.2e}/s); shown: {:?}",
+            1e3 * times[FRAMES / 2],
+            1e3 * times[FRAMES - 1],
+            1e3 * times[0],
+            1e3 * model.sim.time(),
+            wall / model.sim.time(),
+            model.ticks,
+            evals as f64 / wall,
+            behind.map(|r| stoneskip::ui::behind_words(r, 1.0)),
+        );
+    }
 }

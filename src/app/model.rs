@@ -31,6 +31,9 @@ pub const MAX_SIM_PER_FRAME: f64 = 0.25;
 /// Most wall time one frame may spend ticking; a frame stops at it even inside a tick (between two
 /// steps of the stone), and the tick resumes at the next frame.
 pub const PHYSICS_BUDGET: Duration = Duration::from_millis(60);
+/// The wall-time budget while the physics runs behind ([`Pace::behind`]): it cannot catch up
+/// anyway, so the frames come at about 30 a second instead of 15.
+pub const PHYSICS_BUDGET_BEHIND: Duration = Duration::from_millis(25);
 /// Most force evaluations one frame may spend ticking, whatever the clock says: a backstop that
 /// bounds a frame's work by count (about 0.2 s of the costliest throws found, finding S1 in
 /// docs/reliability.md, on the development machine; a normal throw needs a few thousand a frame).
@@ -195,10 +198,13 @@ fn wrap(a: f64) -> f64 {
     }
 }
 
-/// What one frame may spend on physics: the first of the two that runs out stops it.
+/// What one frame may spend on physics: the first of its wall time and its force evaluations
+/// that runs out stops it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FrameBudget {
     pub wall: Duration,
+    /// The wall time while the physics runs behind.
+    pub wall_behind: Duration,
     pub force_evals: u64,
 }
 
@@ -206,6 +212,7 @@ impl Default for FrameBudget {
     fn default() -> Self {
         Self {
             wall: PHYSICS_BUDGET,
+            wall_behind: PHYSICS_BUDGET_BEHIND,
             force_evals: PHYSICS_EVAL_BUDGET,
         }
     }
@@ -728,10 +735,14 @@ impl Model {
         let t_before = self.sim.time();
         let start = Instant::now();
         let budget = self.budget;
+        let wall = if self.pace.behind().is_some() {
+            budget.wall_behind.min(budget.wall)
+        } else {
+            budget.wall
+        };
         let evals_before = self.sim.cost().1;
         let spent = move |(_, evals): (u64, u64)| {
-            evals.saturating_sub(evals_before) >= budget.force_evals
-                || start.elapsed() > budget.wall
+            evals.saturating_sub(evals_before) >= budget.force_evals || start.elapsed() > wall
         };
         let mut todo = due.steps;
         let mut short = false;
