@@ -221,7 +221,7 @@ fn simulate(path: &Path, json: bool, csv: Option<&Path>) -> Result<()> {
             last_report = Instant::now();
             last_t = sim.time();
             eprintln!(
-                "t = {:.4} s simulated, {} skips so far ({:.1} s elapsed; {})",
+                "t = {:.6} s simulated, {} skips so far ({:.1} s elapsed; {})",
                 sim.time(),
                 sim.skips(),
                 started.elapsed().as_secs_f64(),
