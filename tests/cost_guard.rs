@@ -286,6 +286,12 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
         "the app's split ticks follow the very run of a plain one"
     );
     let worst_step = per_step.iter().copied().max().unwrap();
+    println!(
+        "{} steps, at most {worst_step} evaluations in one; frames of {}–{} evaluations",
+        per_step.len(),
+        frame_evals.iter().min().unwrap(),
+        frame_evals.iter().max().unwrap()
+    );
     for (i, e) in frame_evals.iter().enumerate() {
         assert!(
             *e <= BUDGET + worst_step,
@@ -316,7 +322,10 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
 /// skipped, nothing is said, and the run is the headless one.
 #[test]
 fn a_normal_throw_runs_every_tick_whole() {
-    let p = wavy_throw(Integrator::Adaptive);
+    // The shipped default throw, on a narrower lake in coarser cells so the test runs in a moment.
+    let mut p = Preset::default();
+    p.water.size = [40.0, 4.0];
+    p.water.cell = 0.1;
     let mut model = Model::new(p.clone(), None, Default::default()).unwrap();
     model.budget.wall = Duration::from_secs(3600);
     model.budget.wall_behind = Duration::from_secs(3600);
@@ -333,6 +342,11 @@ fn a_normal_throw_runs_every_tick_whole() {
         assert!(frames < 100_000);
     }
     assert_eq!(model.clock.skipped_total(), 0.0);
+    println!(
+        "{frames} frames, at most {worst} force evaluations in one; {:?}",
+        model.sim.summary().outcome
+    );
+    assert!(model.sim.skips() >= 3, "a whole throw: {}", model.sim.skips());
     assert!(
         worst < stoneskip::app::model::PHYSICS_EVAL_BUDGET / 10,
         "{worst} evaluations in a frame"
