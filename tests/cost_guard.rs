@@ -63,16 +63,21 @@ fn sample_bits(s: &StepSample) -> Vec<u64> {
         .collect()
 }
 
-/// The default throw on a small lake with the water coupled and wavy contact on; Adaptive at a
+/// The default throw on a narrow lake with the water coupled and wavy contact on; Adaptive at a
 /// tight tolerance and the longest tick, so that its ticks hold many steps.
 fn wavy_throw(integrator: Integrator) -> Preset {
     let mut p = Preset::default();
     if integrator == Integrator::Adaptive {
         p.physics.tolerance = 1e-8;
         p.physics.dt = 0.02;
+    } else {
+        // Tumbling slowly end over end: its rim grazes the water once, in a tick that flies to
+        // the touch and steps on from there.
+        p.physics.rotation = Rotation::Free;
+        p.launch.angular_velocity = [0.0, 10.0, 0.0];
     }
-    p.water.size = [6.0, 2.0];
-    p.water.cell = 0.05;
+    p.water.size = [40.0, 4.0];
+    p.water.cell = 0.1;
     p.water.wavy_contact = true;
     p.physics.integrator = integrator;
     p.physics.max_time = 3.0;
@@ -106,8 +111,8 @@ fn run_with(
 /// A throw whose ticks yield after every step, or after every third step of the run, and resume
 /// gives the very run of plain ticks: the same steps, summary and contacts, bit for bit, under
 /// Adaptive and a fixed scheme. Yielding after every step splits every tick of n steps n − 1
-/// times. (A fixed scheme's tick is one step, but at a graze, where it flies to the touch and
-/// steps on: this throw has none, so there the test shows only that the closure changes nothing.)
+/// times. (A fixed scheme's tick is one step but at a graze, where it flies to the touch and steps
+/// on from there: its throw here has one.)
 #[test]
 fn a_tick_split_between_steps_is_bit_identical_to_a_whole_one() {
     for integrator in [Integrator::Adaptive, Integrator::Rk4] {
@@ -127,8 +132,13 @@ fn a_tick_split_between_steps_is_bit_identical_to_a_whole_one() {
             let (split, split_steps, partial, _) = run_with(&p, |sim, on_step| {
                 sim.tick_until(on_step, &|(steps, _)| steps % every == 0)
             });
+            println!(
+                "{integrator:?}, a yield after every {every}: {partial} yields in {} steps",
+                split_steps.len()
+            );
             if every == 1 {
                 assert_eq!(partial, extra, "{integrator:?}: a yield after every step");
+                assert!(partial >= 1, "{integrator:?}: no tick was split");
             } else if integrator == Integrator::Adaptive {
                 assert!(
                     partial >= extra / 4,
@@ -258,6 +268,7 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
     model.throw();
     let dt = p.physics.dt;
     let mut frame_evals = Vec::new();
+    let mut inside = 0u64;
     let mut t = model.sim.time();
     let t0 = t;
     for frame in 1..=FRAMES {
@@ -265,6 +276,7 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
         model.advance(FRAME);
         let (_, e1) = model.sim.cost();
         frame_evals.push(e1 - e0);
+        inside += u64::from(model.sim.tick_in_progress());
         assert!(model.sim.time() > t, "frame {frame}: the run moves on");
         t = model.sim.time();
         // Promised = run or skipped, to the clock's remainder: nothing piles up.
@@ -277,7 +289,10 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
         );
     }
     assert!(!model.sim.is_finished(), "S1 is far from its end");
-    assert!(model.ticks < FRAMES, "most frames end inside a tick");
+    assert!(
+        model.ticks < FRAMES && inside == FRAMES,
+        "frames end inside a tick: {inside}"
+    );
     // The bound: the budget, plus the last step (the budget is checked between steps).
     let (per_step, t_ref) = evals_per_step(&p, model.sim.cost().0);
     assert_eq!(
@@ -287,8 +302,9 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
     );
     let worst_step = per_step.iter().copied().max().unwrap();
     println!(
-        "{} steps, at most {worst_step} evaluations in one; frames of {}–{} evaluations",
+        "{} steps, {} ticks, at most {worst_step} evaluations in one; frames of {}–{} evaluations",
         per_step.len(),
+        model.ticks,
         frame_evals.iter().min().unwrap(),
         frame_evals.iter().max().unwrap()
     );
@@ -315,6 +331,54 @@ fn a_costly_throw_keeps_each_frame_within_its_budget_and_says_it_runs_behind() {
     assert_eq!(
         words,
         format!("physics running behind: {r:.0}× slower than real time")
+    );
+}
+
+/// A whole throw through the app with a frame budget smaller than its costly ticks: frames end
+/// inside ticks, ticks complete inside frames and new ones begin; each frame stays within its
+/// budget plus one step, nothing piles up, and the run is the headless one, bit for bit.
+#[test]
+fn a_throw_under_a_tight_frame_budget_is_the_headless_run() {
+    const BUDGET: u64 = 40;
+    const FRAME: f64 = 1.0 / 60.0;
+    let p = wavy_throw(Integrator::Adaptive);
+    let mut model = Model::new(p.clone(), None, Default::default()).unwrap();
+    model.budget = FrameBudget {
+        wall: Duration::from_secs(3600),
+        wall_behind: Duration::from_secs(3600),
+        force_evals: BUDGET,
+    };
+    model.throw();
+    let (per_step, _) = evals_per_step(&p, u64::MAX);
+    let worst_step = per_step.iter().copied().max().unwrap();
+    let (mut frames, mut inside, mut both) = (0u64, 0u64, 0u64);
+    while !model.sim.is_finished() {
+        let (_, e0) = model.sim.cost();
+        let ticks = model.ticks;
+        model.advance(FRAME);
+        frames += 1;
+        let e = model.sim.cost().1 - e0;
+        assert!(e <= BUDGET + worst_step, "frame {frames}: {e} evaluations");
+        inside += u64::from(model.sim.tick_in_progress());
+        // A tick completed in this frame and the next one yielded in it.
+        both += u64::from(model.ticks > ticks && model.sim.tick_in_progress());
+        let started = model.ticks + u64::from(model.sim.tick_in_progress());
+        let accounted = model.clock.skipped_total() + started as f64 * p.physics.dt;
+        assert!((accounted - frames as f64 * FRAME).abs() <= p.physics.dt + 1e-9);
+        assert!(frames < 1_000_000);
+    }
+    println!("{frames} frames: {inside} end inside a tick, {both} after completing one");
+    assert!(
+        inside >= 10 && both >= 5,
+        "{inside} frames inside a tick, {both} both"
+    );
+    let mut headless = Simulation::new(&p).unwrap();
+    for _ in 0..model.ticks {
+        headless.tick();
+    }
+    assert_eq!(
+        summary_bits(&model.sim.summary()),
+        summary_bits(&headless.summary())
     );
 }
 
@@ -346,7 +410,11 @@ fn a_normal_throw_runs_every_tick_whole() {
         "{frames} frames, at most {worst} force evaluations in one; {:?}",
         model.sim.summary().outcome
     );
-    assert!(model.sim.skips() >= 3, "a whole throw: {}", model.sim.skips());
+    assert!(
+        model.sim.skips() >= 3,
+        "a whole throw: {}",
+        model.sim.skips()
+    );
     assert!(
         worst < stoneskip::app::model::PHYSICS_EVAL_BUDGET / 10,
         "{worst} evaluations in a frame"

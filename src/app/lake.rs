@@ -34,8 +34,8 @@ pub fn lake_rect(p: &Preset) -> Option<Rect> {
 }
 
 /// Most force evaluations the flat-water check may spend (it runs on the UI thread): a shipped
-/// preset needs at most a few 10⁵; a throw costlier than this (finding S1 in docs/reliability.md)
-/// goes unchecked rather than freeze the app.
+/// preset needs at most 2.5·10⁴ (`record_throw`); a throw costlier than this (finding S1 in
+/// docs/reliability.md) goes unchecked rather than freeze the app.
 pub const MAX_CHECK_EVALS: u64 = 400_000;
 
 /// The extent of the stone's track on flat water (its centre of mass from launch to outcome), or
