@@ -49,6 +49,9 @@ enum Command {
         /// Writes the trajectory as CSV.
         #[arg(long)]
         csv: Option<PathBuf>,
+        /// Steps the water even when nothing reads it (wavy contact off), e.g. for its volume drift.
+        #[arg(long)]
+        step_water: bool,
     },
     /// Renders the scene at time T offscreen to a PNG.
     Render {
@@ -97,7 +100,12 @@ fn run() -> Result<()> {
         Some(Command::Gui { preset, frames }) => stoneskip::app::run_app(preset, frames),
         #[cfg(not(feature = "app"))]
         None | Some(Command::Gui { .. }) | Some(Command::Render { .. }) => Err(without_app()),
-        Some(Command::Simulate { preset, json, csv }) => simulate(&preset, json, csv.as_deref()),
+        Some(Command::Simulate {
+            preset,
+            json,
+            csv,
+            step_water,
+        }) => simulate(&preset, json, csv.as_deref(), step_water),
         #[cfg(feature = "app")]
         Some(Command::Render {
             preset,
@@ -162,9 +170,12 @@ fn time_left(remaining: f64, rate: f64) -> String {
     format!("at most ~{span} left at the current rate, {rate:.3e} simulated s per s")
 }
 
-fn simulate(path: &Path, json: bool, csv: Option<&Path>) -> Result<()> {
+fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Result<()> {
     let preset: Preset = preset::load(path)?;
     let mut sim = Simulation::new(&preset).with_context(|| format!("{}", path.display()))?;
+    if !step_water {
+        sim.skip_unread_water();
+    }
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let c = cancel.clone();

@@ -34,7 +34,13 @@ pub fn text_summary(s: &Summary) -> String {
     if let Some(reason) = &s.diverged_reason {
         out.push_str(&format!("diverged: {reason}\n"));
     }
-    if let Some(w) = &s.water {
+    if let Some(w) = s.water.as_ref().filter(|w| !w.stepped) {
+        out.push_str(&format!(
+            "water left at rest ({:.6} m³): nothing in this run reads it (wavy contact off; --step-water steps it)\n",
+            w.volume_initial
+        ));
+    }
+    if let Some(w) = s.water.as_ref().filter(|w| w.stepped) {
         let drift = if w.volume_initial > 0.0 {
             (w.volume_final - w.volume_initial) / w.volume_initial
         } else {
@@ -64,7 +70,13 @@ pub fn text_summary(s: &Summary) -> String {
                 c.beta_in,
                 c.attitude_in[0],
                 vout,
-                if c.skip { "yes" } else { "no" }
+                if c.skip {
+                    "yes"
+                } else if c.graze {
+                    "graze"
+                } else {
+                    "no"
+                }
             ));
         }
     }

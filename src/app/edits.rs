@@ -103,6 +103,17 @@ fn shown(v: &Value) -> String {
     }
 }
 
+/// Two objects of the same kind: not two different enum variants (serde writes a variant as a
+/// one-key object named after it).
+fn same_kind(x: &serde_json::Map<String, Value>, y: &serde_json::Map<String, Value>) -> bool {
+    let variant = |m: &serde_json::Map<String, Value>| {
+        m.len() == 1
+            && m.keys()
+                .all(|k| k.starts_with(|c: char| c.is_ascii_uppercase()))
+    };
+    !(variant(x) || variant(y)) || x.keys().eq(y.keys())
+}
+
 fn diff_values(path: &str, a: &Value, b: &Value, out: &mut Vec<Difference>) {
     let join = |k: &str| {
         if path.is_empty() {
@@ -112,11 +123,20 @@ fn diff_values(path: &str, a: &Value, b: &Value, out: &mut Vec<Difference>) {
         }
     };
     match (a, b) {
-        (Value::Object(x), Value::Object(y)) if x.keys().eq(y.keys()) => {
-            for (k, va) in x {
-                if let Some(vb) = y.get(k) {
-                    diff_values(&join(k), va, vb, out);
-                }
+        // Same kind (both objects, no enum variant tag changed): field by field, a field the one
+        // side leaves out (an optional one unset) counting as null.
+        (Value::Object(x), Value::Object(y)) if same_kind(x, y) => {
+            let mut keys: Vec<&String> = x.keys().chain(y.keys()).collect();
+            keys.sort();
+            keys.dedup();
+            for k in keys {
+                let (va, vb) = (x.get(k), y.get(k));
+                diff_values(
+                    &join(k),
+                    va.unwrap_or(&Value::Null),
+                    vb.unwrap_or(&Value::Null),
+                    out,
+                );
             }
         }
         (Value::Array(x), Value::Array(y)) if x.len() == y.len() => {
@@ -208,5 +228,14 @@ mod tests {
         let d = section_differences(&p.stone, &stone);
         assert_eq!(d.len(), 1, "{d:?}");
         assert_eq!(d[0].field, "shape");
+        // An optional value set where the preset leaves it out is one difference, by its name.
+        let mut physics = p.physics;
+        physics.lift_coefficient = Some(1.0);
+        let d = section_differences(&p.physics, &physics);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(
+            (d[0].field.as_str(), d[0].preset.as_str(), d[0].now.as_str()),
+            ("lift coefficient", "none", "1")
+        );
     }
 }

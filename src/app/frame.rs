@@ -12,6 +12,7 @@ use winit::event_loop::ActiveEventLoop;
 use super::files;
 use super::model::{Model, Shot};
 use super::platform::{App, Gfx};
+use super::redraw::{self, PanelTiles};
 use crate::render::offscreen::read_rgba8;
 use crate::render::Viewport;
 use crate::ui::{Message, Phase};
@@ -213,18 +214,19 @@ fn draw(
         // lavapipe makes very slow (the panels cost 5× more).
         let fresh_canvas = gfx.canvas.as_ref().is_none_or(|(s, _, _)| *s != size);
         let (canvas_tex, canvas) = canvas_view(gfx, size);
-        // Software rasterisers without MSAA redraw only the 3D view while the panels are unchanged.
-        let fingerprint = ui_fingerprint(prims, ppp, model.view_rect);
-        let redraw = if gfx.scene.config().sample_count == 1
-            && !fresh_canvas
-            && !textures_changed
-            && gfx.ui_fingerprint == Some(fingerprint)
-        {
-            Redraw::ViewOnly
-        } else {
-            Redraw::Full
+        // Without MSAA the 3D view is redrawn with only the panels' tiles that changed (none while
+        // the panels are unchanged); see `redraw`.
+        let tiles = PanelTiles::new(prims, redraw::screen_rect(size, ppp), model.view_rect, ppp);
+        let changed = match &gfx.ui_tiles {
+            Some(last)
+                if gfx.scene.config().sample_count == 1 && !fresh_canvas && !textures_changed =>
+            {
+                tiles.changed_since(last)
+            }
+            _ => None,
         };
-        gfx.ui_fingerprint = Some(fingerprint);
+        let redraw = changed.map_or(Redraw::Full, Redraw::Partial);
+        gfx.ui_tiles = Some(tiles);
         model.last_full_redraw = redraw == Redraw::Full;
         // A reduced-resolution frame of a still scene: follow it with a sharp one.
         model.sharp_pending = (model.animating()
@@ -383,22 +385,31 @@ fn render_frame(
         size_in_pixels: [size.0, size.1],
         pixels_per_point: ppp,
     };
-    // A partial redraw keeps the panels' pixels: only what egui draws over the 3D view is drawn
-    // again, clipped to it.
+    // A partial redraw keeps the panels' pixels but those of the changed tiles: what egui draws
+    // over the 3D view and over those tiles is drawn again, clipped to them, over the window's
+    // background colour there.
     let clipped: Vec<egui::ClippedPrimitive>;
-    let prims = match redraw {
+    let prims = match &redraw {
         Redraw::Full => prims,
-        Redraw::ViewOnly => {
-            clipped = prims
-                .iter()
-                .filter_map(|p| {
-                    let clip = p.clip_rect.intersect(r);
-                    (clip.is_positive()).then(|| egui::ClippedPrimitive {
-                        clip_rect: clip,
-                        primitive: p.primitive.clone(),
-                    })
-                })
-                .collect();
+        Redraw::Partial(tiles) => {
+            let background = if gfx.config.format.is_srgb() {
+                egui::Color32::from_rgb(89, 89, 93)
+            } else {
+                egui::Color32::from_rgb(26, 26, 28)
+            };
+            // Rectangle by rectangle (they may overlap one another, never the view): the
+            // background, then everything over it.
+            let mut again = redraw::clipped_to(prims, &[r]);
+            for t in tiles {
+                let mut m = egui::Mesh::default();
+                m.add_colored_rect(*t, background);
+                again.push(egui::ClippedPrimitive {
+                    clip_rect: *t,
+                    primitive: egui::epaint::Primitive::Mesh(m),
+                });
+                again.extend(redraw::clipped_to(prims, std::slice::from_ref(t)));
+            }
+            clipped = again;
             &clipped
         }
     };
@@ -431,43 +442,12 @@ fn render_frame(
 }
 
 /// How much of the window a frame draws again.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 enum Redraw {
     Full,
-    /// The 3D view and what lies over it; the panels' pixels are the last frame's.
-    ViewOnly,
-}
-
-/// A fingerprint of egui's output outside the 3D view: equal fingerprints draw equal panels.
-fn ui_fingerprint(prims: &[egui::ClippedPrimitive], ppp: f32, view: egui::Rect) -> u64 {
-    use std::hash::{Hash, Hasher};
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    ppp.to_bits().hash(&mut h);
-    for v in [view.min.x, view.min.y, view.max.x, view.max.y] {
-        v.to_bits().hash(&mut h);
-    }
-    // What lies wholly inside the 3D view is drawn again by every partial redraw: only the rest
-    // (the panels, and what spans them) decides whether the panels must be redrawn.
-    for p in prims.iter().filter(|p| !view.contains_rect(p.clip_rect)) {
-        for v in [
-            p.clip_rect.min.x,
-            p.clip_rect.min.y,
-            p.clip_rect.max.x,
-            p.clip_rect.max.y,
-        ] {
-            v.to_bits().hash(&mut h);
-        }
-        match &p.primitive {
-            egui::epaint::Primitive::Mesh(m) => {
-                m.texture_id.hash(&mut h);
-                bytemuck::cast_slice::<egui::epaint::Vertex, u8>(&m.vertices).hash(&mut h);
-                m.indices.hash(&mut h);
-            }
-            // Callbacks draw what they like: never equal.
-            egui::epaint::Primitive::Callback(_) => Instant::now().hash(&mut h),
-        }
-    }
-    h.finish()
+    /// The 3D view and what lies over it, and these rectangles of the panels (points); the rest
+    /// of the panels' pixels are the last frame's.
+    Partial(Vec<egui::Rect>),
 }
 
 /// Draws the window (scene and panels, [`Shot::Window`]) or the 3D view alone at the window's size

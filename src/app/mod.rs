@@ -23,6 +23,7 @@ pub mod options;
 mod overlays;
 mod panels;
 mod platform;
+mod redraw;
 pub mod replay;
 
 use std::path::PathBuf;

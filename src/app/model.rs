@@ -133,8 +133,8 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
     }
     if p.water.enabled && p.water.wavy_contact && p.water.cell > 0.01 + 1e-12 {
         w.push(format!(
-            "wavy contact on {:.1} cm cells: the study needs 1 cm or finer, or crests brushing the \
-             stone count as skips",
+            "wavy contact on {:.1} cm cells: results still move with the cell above 1 cm \
+             (fidelity study)",
             p.water.cell * 100.0
         ));
     }

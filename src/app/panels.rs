@@ -223,13 +223,16 @@ impl Model {
         let d_stone = section_differences(&self.loaded.stone, &self.edit.stone);
         let d_physics = section_differences(&self.loaded.physics, &self.edit.physics);
         let d_water = section_differences(&self.loaded.water, &self.edit.water);
+        let marks = |d: &[Difference]| {
+            ui::Marks::new(d.iter().map(|d| (d.field.as_str(), d.preset.as_str())))
+        };
         egui::CollapsingHeader::new(head("Launch", &d_launch))
             .id_salt("launch_panel")
             .default_open(true)
             .show(ui, |ui| {
                 changes_ui(ui, &d_launch, Section::Launch, actions);
                 self.lake_exit_ui(ui, actions);
-                if ui::launch_ui(ui, &mut self.edit.launch) {
+                if ui::launch_ui(ui, &mut self.edit.launch, &marks(&d_launch)) {
                     actions.push(Action::SceneEdited);
                 }
                 if self.edit.physics.rotation == Rotation::Locked {
@@ -252,7 +255,7 @@ impl Model {
             .default_open(true)
             .show(ui, |ui| {
                 changes_ui(ui, &d_stone, Section::Stone, actions);
-                if ui::stone_ui(ui, &mut self.edit.stone) {
+                if ui::stone_ui(ui, &mut self.edit.stone, &marks(&d_stone)) {
                     actions.push(Action::SceneEdited);
                 }
             });
@@ -262,7 +265,7 @@ impl Model {
             .show(ui, |ui| {
                 changes_ui(ui, &d_physics, Section::Physics, actions);
                 ui.weak("Applied live, at the next step.");
-                if ui::physics_ui(ui, &mut self.edit.physics) {
+                if ui::physics_ui(ui, &mut self.edit.physics, &marks(&d_physics)) {
                     actions.push(Action::PhysicsEdited);
                 }
             });
@@ -273,7 +276,7 @@ impl Model {
                 changes_ui(ui, &d_water, Section::Water, actions);
                 self.lake_exit_ui(ui, actions);
                 ui.weak("Needs a new simulation: applied on the next throw or reset.");
-                if ui::water_ui(ui, &mut self.edit.water) {
+                if ui::water_ui(ui, &mut self.edit.water, &marks(&d_water)) {
                     actions.push(Action::SceneEdited);
                 }
             });

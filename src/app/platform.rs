@@ -52,8 +52,8 @@ pub struct Gfx {
     pub adapter: String,
     /// The frame is drawn here first (see [`canvas_view`]).
     pub canvas: Option<((u32, u32), wgpu::Texture, wgpu::TextureView)>,
-    /// egui's output last frame (see [`ui_fingerprint`]).
-    pub ui_fingerprint: Option<u64>,
+    /// The panels' tile fingerprints last frame (see [`super::redraw`]).
+    pub ui_tiles: Option<super::redraw::PanelTiles>,
 }
 
 impl Gfx {
@@ -175,7 +175,7 @@ impl Gfx {
             egui_renderer,
             adapter: adapter_name,
             canvas: None,
-            ui_fingerprint: None,
+            ui_tiles: None,
         })
     }
 

@@ -99,10 +99,11 @@ pub fn lake_rim(lo: [f64; 2], hi: [f64; 2]) -> Vec<Line> {
     edges.chain(posts).collect()
 }
 
-/// One marker per contact episode.
+/// One marker per contact episode, grazes left out (they are not bounces a student sees).
 pub fn markers_of(contacts: &[ContactEvent]) -> Vec<Marker> {
     contacts
         .iter()
+        .filter(|c| !c.graze)
         .map(|c| Marker {
             x: c.x,
             y: c.y,
@@ -258,7 +259,8 @@ pub const END_COLOR: [f32; 4] = [1.0, 0.3, 0.2, 1.0];
 pub const OPEN_COLOR: [f32; 4] = [1.0, 1.0, 1.0, 1.0];
 
 /// The side view's guides: the waterline under the whole trajectory and a tick rising from each
-/// contact (green: a skip; red: a contact that did not end in the air; white: still going on).
+/// contact (green: a skip; red: a contact that did not end in the air; white: still going on; none
+/// for a graze).
 pub fn side_guides(framing: &Framing, contacts: &[ContactEvent], camera: &Camera) -> Vec<Line> {
     let along = Vec3::new(framing.heading.cos(), framing.heading.sin(), 0.0);
     let (lo, hi) = framing.bounds;
@@ -274,7 +276,7 @@ pub fn side_guides(framing: &Framing, contacts: &[ContactEvent], camera: &Camera
     // Ticks 5 % of the view's height, whatever the exaggeration.
     let view_h = 2.0 * camera.distance * (0.5 * camera.fov_y).tan();
     let tick = 0.05 * view_h / camera.exaggeration.max(1e-3);
-    for c in contacts {
+    for c in contacts.iter().filter(|c| !c.graze) {
         let color = if c.open {
             OPEN_COLOR
         } else if c.skip {

@@ -121,6 +121,7 @@ mod tests {
             t_start: t0,
             t_end: t1,
             skip: true,
+            graze: false,
             x,
             y: 0.0,
             v_in: [0.0; 3],

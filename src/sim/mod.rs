@@ -73,14 +73,28 @@ impl Outcome {
     }
 }
 
-/// One contact episode: from the first vertex reaching the surface until none is at or below it
-/// (a skip), or until the stone sinks or the run ends.
+/// One contact episode: from the first vertex reaching the surface until none is at or below it,
+/// or until the stone sinks or the run ends.
+///
+/// On flat water (z = 0: wavy contact off) every episode that ends with the stone wholly above the
+/// surface is a **skip** (design.md §4). With wavy contact the surface moves by itself — a swell's
+/// crests and the rings of earlier contacts rise into the stone — so there an episode that ends in
+/// the air is a skip only when the water turned the stone upward, `v_out.z > v_in.z`: the water's
+/// vertical impulse over the episode, J_z = m (v_out.z − v_in.z) + m g (t_end − t_start), exceeded
+/// what gravity took, i.e. its mean upward force beat the stone's weight. Otherwise it is a
+/// **graze**: a crest brushed a stone that gravity kept decelerating (typically one still climbing
+/// from the bounce before), listed but not counted. A bounce always qualifies (it turns a fall,
+/// v_in.z < 0, into a climb, v_out.z > 0), and so does a rock-off that only slows a fall. The rule
+/// has no parameter and does not depend on the tick.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ContactEvent {
     pub t_start: f64,
     pub t_end: f64,
-    /// Ended with the stone wholly above the surface.
+    /// Ended with the stone wholly above the surface (with wavy contact: turned upward, see above).
     pub skip: bool,
+    /// With wavy contact: ended with the stone wholly above the surface without the water turning
+    /// it upward (a crest's brush, not counted). Always false on flat water.
+    pub graze: bool,
     /// Centre of mass when the episode started.
     pub x: f64,
     pub y: f64,
@@ -100,6 +114,10 @@ pub struct ContactEvent {
 pub struct WaterSummary {
     pub volume_initial: f64,
     pub volume_final: f64,
+    /// Whether the water was stepped. A headless run whose results do not read the water (wavy
+    /// contact off: the stone sees the plane z = 0) leaves it at rest; see
+    /// [`Simulation::skip_unread_water`].
+    pub stepped: bool,
 }
 
 /// The result of a run, as `simulate --json` prints it (design.md §7).
@@ -297,6 +315,8 @@ pub struct Simulation {
     /// Upper bound of the water surface's slope (wavy contact), for the flight's clearance bound.
     water_max_slope: f64,
     volume_initial: f64,
+    /// Whether `tick` advances the water (and gives it the stone's impulses).
+    step_water: bool,
     launch_position: DVec3,
     motion: Motion,
     /// The tick begun by [`Simulation::tick_until`] and not yet finished (it yielded inside).
@@ -365,6 +385,7 @@ impl Simulation {
             water_max_eta: 0.0,
             water_max_slope: 0.0,
             volume_initial,
+            step_water: true,
             launch_position: state.position,
             motion: Motion {
                 state,
@@ -505,6 +526,7 @@ impl Simulation {
             water: self.water.as_ref().map(|w| WaterSummary {
                 volume_initial: self.volume_initial,
                 volume_final: w.volume(),
+                stepped: self.step_water,
             }),
         }
     }
@@ -520,6 +542,18 @@ impl Simulation {
             self.tick_with(on_step);
         }
         self.summary()
+    }
+
+    /// Stops stepping the water when nothing the run reports depends on it: with wavy contact off
+    /// the stone meets the plane z = 0, so its motion, contacts and outcome are the same with the
+    /// water at rest (the lake's extent still bounds the run: `left_domain`). Headless runs call this;
+    /// the app does not (it shows the rings). Returns whether the water is now left at rest; the
+    /// summary says so (`water.stepped`).
+    pub fn skip_unread_water(&mut self) -> bool {
+        if self.water.is_some() && !self.preset.water.wavy_contact {
+            self.step_water = false;
+        }
+        !self.step_water
     }
 
     /// Advances by one tick (`physics.dt`).
@@ -588,7 +622,7 @@ impl Simulation {
             self.finish(Outcome::Timeout);
         }
         self.deposit_pending();
-        if let Some(w) = self.water.as_mut() {
+        if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             let before = w.time();
             w.advance(dt);
             let stepped = w.time() != before;
@@ -604,7 +638,7 @@ impl Simulation {
     /// Hands the face impulses gathered so far in the tick to the water, in their order (the grid
     /// sums them into its pending loads, applied when it next steps).
     fn deposit_pending(&mut self) {
-        if let Some(w) = self.water.as_mut() {
+        if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             for l in &self.motion.pending {
                 w.deposit_impulse_box(l.x, l.y, l.half, l.impulse);
                 w.deposit_momentum_box(l.x, l.y, l.half, l.horizontal);
@@ -663,6 +697,7 @@ impl Simulation {
             t_start: t,
             t_end: t,
             skip: false,
+            graze: false,
             x: s.position.x,
             y: s.position.y,
             v_in: v.to_array(),
@@ -682,6 +717,7 @@ impl Simulation {
                 ev.open = false;
                 ev.t_end = t;
                 ev.skip = false;
+                ev.graze = false;
                 ev.v_out = s.velocity.to_array();
                 ev.attitude_out = reported_attitude(s.orientation, s.velocity);
             }
@@ -811,15 +847,19 @@ impl Simulation {
             self.motion.contacts.push(ev);
         } else if was && !now {
             // Exit: the motion after it is flight; locate the last touch backwards from here.
+            let surface_flat = self.surface().is_flat();
             let sstar = self.bisect_crossing(&s, h, false);
             let at = flight(&self.stone, physics.rotation, physics.gravity, &s, -sstar);
             if let Some(ev) = self.motion.contacts.last_mut() {
                 if ev.open {
                     ev.open = false;
-                    ev.skip = true;
                     ev.t_end = t - sstar;
                     ev.v_out = at.velocity.to_array();
                     ev.attitude_out = reported_attitude(at.orientation, at.velocity);
+                    // On a moving surface, turned upward by the water: a skip; else a graze
+                    // (see `ContactEvent`). On flat water every exit is a skip.
+                    ev.graze = !surface_flat && ev.v_out[2] <= ev.v_in[2];
+                    ev.skip = !ev.graze;
                 }
             }
         }
@@ -1245,15 +1285,43 @@ fn local_bounds(w: &WaterGrid, x: f64, y: f64, reach: f64) -> (f64, f64) {
     (m, sx.hypot(sy) / l)
 }
 
-/// Convenience: runs a preset to its end and returns the summary.
+/// Runs a preset to its end, headless: the water is left at rest when nothing reads it
+/// ([`Simulation::skip_unread_water`]).
 pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
     let mut sim = Simulation::new(preset)?;
+    sim.skip_unread_water();
     Ok(sim.run(&mut |_| {}, &|| false))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// With wavy contact off the stone meets the plane z = 0, so leaving the water at rest changes
+    /// nothing the run reports about the stone, bit for bit; with wavy contact on, the water is read
+    /// and keeps stepping.
+    #[test]
+    fn unread_water_is_left_at_rest_without_changing_the_stone() {
+        let mut p = Preset::default();
+        p.water.wavy_contact = false;
+        p.water.cell = 0.05;
+        p.water.size = [16.0, 2.0];
+        p.physics.max_time = 1.0;
+        let mut stepped = Simulation::new(&p).unwrap();
+        let a = stepped.run(&mut |_| {}, &|| false);
+        let b = simulate(&p).unwrap();
+        let (wa, wb) = (a.water.unwrap(), b.water.unwrap());
+        assert!(wa.stepped && !wb.stepped);
+        assert_eq!(wb.volume_final, wb.volume_initial);
+        assert!(a.skips >= 1, "{a:?}");
+        assert_eq!(Summary { water: None, ..a }, Summary { water: None, ..b });
+        let mut q = p.clone();
+        q.water.wavy_contact = true;
+        let mut sim = Simulation::new(&q).unwrap();
+        assert!(!sim.skip_unread_water());
+        sim.tick();
+        assert!(sim.summary().water.unwrap().stepped);
+    }
 
     /// A step whose forces overflow (the velocity of an explicit scheme run far past its stability
     /// limit) ends the run as diverged, at the last finite state, with the reason; it used to be

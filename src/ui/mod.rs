@@ -22,7 +22,9 @@ pub use readouts::{
     contact_kind, contacts_ui, export_ui, ghosts_ui, plots_ui, readouts_ui, slide_distance,
     timing_ui, ContactKind, GhostRow, PlotSeries,
 };
-pub use settings::{display_ui, launch_ui, parse_finite, physics_ui, stone_ui, water_ui};
+pub use settings::{
+    display_ui, launch_ui, parse_finite, physics_ui, stone_ui, water_ui, Marks, MARK_COLOR,
+};
 
 /// What the user asked for this frame.
 #[derive(Debug, Clone, PartialEq)]

@@ -111,8 +111,10 @@ pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
 pub enum ContactKind {
     /// Still going on.
     Open,
-    /// Ended with the stone in the air.
+    /// Ended with the stone in the air, turned upward by the water.
     Skip,
+    /// Ended with the stone in the air, but the water did not turn it upward: a crest brushed it.
+    Graze,
     /// Did not end in the air, after a short contact.
     Sank,
     /// Did not end in the air, after sliding farther than [`GLIDE_DIAMETERS`] stone diameters: a
@@ -142,6 +144,8 @@ pub fn contact_kind(c: &ContactEvent, radius: f64) -> ContactKind {
         ContactKind::Open
     } else if c.skip {
         ContactKind::Skip
+    } else if c.graze {
+        ContactKind::Graze
     } else if slide_distance(c) > GLIDE_DIAMETERS * 2.0 * radius {
         ContactKind::Glide
     } else {
@@ -165,7 +169,12 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
                 .spacing([10.0, 2.0])
                 .show(ui, |ui| {
                     for (h, tip) in [
-                        ("#", "skip: ended in the air; glide: a planing slide that never left the water"),
+                        (
+                            "#",
+                            "skip: the water threw the stone back into the air; graze: a crest brushed \
+                             the stone without turning it upward (not counted); glide: a planing slide \
+                             that never left the water",
+                        ),
                         ("t (s)", "start of the contact"),
                         ("ms", "duration"),
                         ("x (m)", "where it started"),
@@ -180,6 +189,7 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
                         let (mark, color) = match contact_kind(c, radius) {
                             ContactKind::Open => ("...", ui.visuals().text_color()),
                             ContactKind::Skip => ("skip", egui::Color32::from_rgb(140, 235, 110)),
+                            ContactKind::Graze => ("graze", ui.visuals().weak_text_color()),
                             ContactKind::Sank => ("sank", egui::Color32::from_rgb(255, 120, 100)),
                             ContactKind::Glide => ("glide", egui::Color32::from_rgb(120, 200, 255)),
                         };

@@ -39,15 +39,117 @@ fn grid(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui) -> bool) -> bool {
         .inner
 }
 
-fn row(ui: &mut Ui, label: &str, tip: &str, add: impl FnOnce(&mut Ui) -> egui::Response) -> bool {
-    ui.label(label).on_hover_text(tip);
-    let changed = add(ui).on_hover_text(tip).changed();
+/// The values that differ from the loaded preset, for marking their rows: each difference's field,
+/// named as `app::edits` names it ("Speed", "gravity", "shape.Lens.radius", "size[0]",
+/// "swell.heading deg"), with the preset's value as shown.
+#[derive(Debug, Default)]
+pub struct Marks {
+    entries: Vec<(String, String)>,
+    /// Which entries a drawn row has shown (differences without a row stay listed by the panel).
+    shown: std::cell::RefCell<Vec<bool>>,
+}
+
+/// Colour of a row whose value differs from the loaded preset.
+pub const MARK_COLOR: egui::Color32 = egui::Color32::from_rgb(255, 190, 70);
+
+impl Marks {
+    pub fn new<'a>(differences: impl IntoIterator<Item = (&'a str, &'a str)>) -> Self {
+        let entries: Vec<(String, String)> = differences
+            .into_iter()
+            .map(|(f, v)| (f.to_owned(), v.to_owned()))
+            .collect();
+        let shown = std::cell::RefCell::new(vec![false; entries.len()]);
+        Self { entries, shown }
+    }
+
+    /// The loaded preset's value for a row showing the fields `keys` (exact names), when any of
+    /// them differs; several differing fields are joined.
+    pub fn for_row(&self, keys: &[&str]) -> Option<String> {
+        let mut shown = self.shown.borrow_mut();
+        let mut values = Vec::new();
+        for (i, (field, preset)) in self.entries.iter().enumerate() {
+            if let Some(k) = keys.iter().find(|k| **k == field) {
+                shown[i] = true;
+                values.push(if keys.len() > 1 {
+                    format!("{k} {preset}")
+                } else {
+                    preset.clone()
+                });
+            }
+        }
+        (!values.is_empty()).then(|| values.join(", "))
+    }
+
+    /// The differing fields no drawn row has shown.
+    pub fn unshown(&self) -> Vec<&str> {
+        let shown = self.shown.borrow();
+        self.entries
+            .iter()
+            .zip(shown.iter())
+            .filter(|(_, s)| !**s)
+            .map(|((f, _), _)| f.as_str())
+            .collect()
+    }
+}
+
+/// A row's label, marked (a dot, the mark colour, the preset's value in the tooltip) when one of
+/// its fields `keys` differs from the loaded preset. Returns that value.
+fn label_ui(ui: &mut Ui, marks: &Marks, keys: &[&str], label: &str, tip: &str) -> Option<String> {
+    let preset = marks.for_row(keys);
+    match &preset {
+        None => {
+            let r = ui.label(label);
+            if !tip.is_empty() {
+                r.on_hover_text(tip);
+            }
+        }
+        Some(v) => {
+            ui.label(egui::RichText::new(format!("{label} •")).color(MARK_COLOR))
+                .on_hover_text(marked_tip(tip, v));
+        }
+    }
+    preset
+}
+
+fn marked_tip(tip: &str, preset: &str) -> String {
+    if tip.is_empty() {
+        format!("Differs from the loaded preset: {preset}")
+    } else {
+        format!("{tip}\n\nDiffers from the loaded preset: {preset}")
+    }
+}
+
+/// A dot after a widget outside a grid (a checkbox) whose field differs from the loaded preset.
+fn dot_ui(ui: &mut Ui, marks: &Marks, key: &str) {
+    if let Some(v) = marks.for_row(&[key]) {
+        ui.label(egui::RichText::new("•").color(MARK_COLOR))
+            .on_hover_text(marked_tip("", &v));
+    }
+}
+
+fn row(
+    ui: &mut Ui,
+    marks: &Marks,
+    key: &str,
+    label: &str,
+    tip: &str,
+    add: impl FnOnce(&mut Ui) -> egui::Response,
+) -> bool {
+    let preset = label_ui(ui, marks, &[key], label, tip);
+    let mut r = add(ui);
+    if !tip.is_empty() {
+        r = r.on_hover_text(tip);
+    }
+    if let Some(v) = preset {
+        r = r.on_hover_text(format!("Loaded preset: {v}"));
+    }
     ui.end_row();
-    changed
+    r.changed()
 }
 
 /// Launch: speed, elevation and heading of the throw, the stone's attitude, position and spin.
-pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
+/// Rows whose value differs from `marks` (the loaded preset) are marked.
+pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
     let v = launch.velocity;
     let speed0 = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     let mut speed = speed0.clamp(0.5, 40.0);
@@ -69,17 +171,26 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
     let mut spin_changed = false;
     changed |= grid(ui, "launch", |ui| {
         let mut c = false;
-        velocity_changed |= row(ui, "Speed", "Launch speed of the centre of mass", |ui| {
-            ui.add(slider(&mut speed, 0.5..=40.0).suffix(" m/s"))
-        });
         velocity_changed |= row(
             ui,
+            marks,
+            "Speed",
+            "Speed",
+            "Launch speed of the centre of mass",
+            |ui| ui.add(slider(&mut speed, 0.5..=40.0).suffix(" m/s")),
+        );
+        velocity_changed |= row(
+            ui,
+            marks,
+            "Elevation",
             "Elevation",
             "Angle of the launch velocity above the horizontal (negative: thrown downwards)",
             |ui| ui.add(slider(&mut elevation, -60.0..=45.0).suffix("°")),
         );
         velocity_changed |= row(
             ui,
+            marks,
+            "Heading",
             "Heading",
             "Direction of the throw, from +x towards +y",
             |ui| ui.add(slider(&mut heading, -90.0..=90.0).suffix("°")),
@@ -87,27 +198,43 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
         let att = &mut launch.attitude;
         c |= row(
             ui,
+            marks,
+            "Tilt",
             "Tilt",
             "Attitude: raises the stone's leading (+x) edge — the attack angle; ~20° is the magic angle",
             |ui| ui.add(slider(&mut att.tilt_deg, -45.0..=75.0).suffix("°")),
         );
-        c |= row(ui, "Bank", "Attitude: roll about the throw axis", |ui| {
-            ui.add(slider(&mut att.bank_deg, -60.0..=60.0).suffix("°"))
-        });
         c |= row(
             ui,
+            marks,
+            "Bank",
+            "Bank",
+            "Attitude: roll about the throw axis",
+            |ui| ui.add(slider(&mut att.bank_deg, -60.0..=60.0).suffix("°")),
+        );
+        c |= row(
+            ui,
+            marks,
+            "Turn",
             "Turn",
             "Attitude: the stone's heading about the vertical",
             |ui| ui.add(slider(&mut att.heading_deg, -180.0..=180.0).suffix("°")),
         );
         spin_changed |= row(
             ui,
+            marks,
+            "Spin",
             "Spin",
             "Spin about the stone's axis (stored in rad/s); it steadies a free stone",
             |ui| ui.add(slider(&mut spin_rev, -75.0..=75.0).suffix(" rev/s")),
         );
-        ui.label("Position")
-            .on_hover_text("Centre of mass at launch (m); z is the height above the water");
+        label_ui(
+            ui,
+            marks,
+            &["Position x", "Position y", "Position z"],
+            "Position",
+            "Centre of mass at launch (m); z is the height above the water",
+        );
         let p = &mut launch.position;
         let r = ui.horizontal(|ui| {
             let a = ui.add(
@@ -137,7 +264,11 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
         ui.end_row();
         c
     });
-    egui::CollapsingHeader::new("Wobble (angular velocity)")
+    let wobble = match marks.for_row(&["Wobble x", "Wobble y", "Wobble z"]) {
+        Some(_) => egui::RichText::new("Wobble (angular velocity) •").color(MARK_COLOR),
+        None => egui::RichText::new("Wobble (angular velocity)"),
+    };
+    egui::CollapsingHeader::new(wobble)
         .id_salt("wobble")
         .show(ui, |ui| {
             ui.horizontal(|ui| {
@@ -172,12 +303,20 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch) -> bool {
 }
 
 /// Stone: shape and size, mass, mesh resolution.
-pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
+pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
     let mut changed = false;
     let kind = stone.shape.kind_name();
     let radius = stone.shape.half_extent().clamp(0.01, 0.3);
     let thickness = stone.shape.thickness().clamp(0.001, 0.1);
-    egui::ComboBox::from_label("Shape")
+    let shape_key = |field: &str| format!("shape.{kind}.{field}");
+    let (k_radius, k_length) = (shape_key("radius"), shape_key("length"));
+    let (k_width, k_thickness) = (shape_key("width"), shape_key("thickness"));
+    let shape_preset = marks.for_row(&["shape"]);
+    let shape_label = match shape_preset {
+        Some(_) => egui::RichText::new("Shape •").color(MARK_COLOR).into(),
+        None => egui::WidgetText::from("Shape"),
+    };
+    let shape_combo = egui::ComboBox::from_label(shape_label)
         .selected_text(kind)
         .show_ui(ui, |ui| {
             let options = [
@@ -219,17 +358,30 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
                 }
             }
         });
+    if let Some(v) = shape_preset {
+        shape_combo.response.on_hover_text(marked_tip("", &v));
+    }
     changed |= grid(ui, "stone", |ui| {
         let mut c = false;
         match &mut stone.shape {
             Shape::Disk { radius, thickness } | Shape::Lens { radius, thickness } => {
-                c |= row(ui, "Radius", "Radius of the stone", |ui| {
-                    ui.add(slider(radius, 0.01..=0.3).suffix(" m"))
-                });
+                c |= row(
+                    ui,
+                    marks,
+                    &k_radius,
+                    "Radius",
+                    "Radius of the stone",
+                    |ui| ui.add(slider(radius, 0.01..=0.3).suffix(" m")),
+                );
                 let max_t = (2.0 * *radius).min(0.1);
-                c |= row(ui, "Thickness", "At most the diameter", |ui| {
-                    ui.add(slider(thickness, 0.001..=max_t).suffix(" m"))
-                });
+                c |= row(
+                    ui,
+                    marks,
+                    &k_thickness,
+                    "Thickness",
+                    "At most the diameter",
+                    |ui| ui.add(slider(thickness, 0.001..=max_t).suffix(" m")),
+                );
                 if *thickness > 2.0 * *radius {
                     *thickness = 2.0 * *radius;
                     c = true;
@@ -240,19 +392,31 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
                 width,
                 thickness,
             } => {
-                c |= row(ui, "Length", "Along the stone's x axis", |ui| {
-                    ui.add(slider(length, 0.02..=0.6).suffix(" m"))
-                });
-                c |= row(ui, "Width", "Across", |ui| {
+                c |= row(
+                    ui,
+                    marks,
+                    &k_length,
+                    "Length",
+                    "Along the stone's x axis",
+                    |ui| ui.add(slider(length, 0.02..=0.6).suffix(" m")),
+                );
+                c |= row(ui, marks, &k_width, "Width", "Across", |ui| {
                     ui.add(slider(width, 0.02..=0.6).suffix(" m"))
                 });
-                c |= row(ui, "Thickness", "Plate thickness", |ui| {
-                    ui.add(slider(thickness, 0.001..=0.1).suffix(" m"))
-                });
+                c |= row(
+                    ui,
+                    marks,
+                    &k_thickness,
+                    "Thickness",
+                    "Plate thickness",
+                    |ui| ui.add(slider(thickness, 0.001..=0.1).suffix(" m")),
+                );
             }
         }
         c |= row(
             ui,
+            marks,
+            "mass",
             "Mass",
             "Mass (the inertia follows from the mesh)",
             |ui| {
@@ -265,6 +429,8 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
         );
         c |= row(
             ui,
+            marks,
+            "segments",
             "Mesh",
             "Rim resolution: segments around the stone",
             |ui| {
@@ -282,17 +448,26 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams) -> bool {
 }
 
 /// Physical constants, force law and integrator: applied live at the next step.
-pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
+pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut changed = false;
     changed |= grid(ui, "physics", |ui| {
         let mut c = false;
-        c |= row(ui, "Gravity", "g", |ui| {
+        c |= row(ui, marks, "gravity", "Gravity", "g", |ui| {
             ui.add(slider(&mut physics.gravity, 0.0..=30.0).suffix(" m/s²"))
         });
-        c |= row(ui, "Water density", "ρ of the water", |ui| {
-            ui.add(slider(&mut physics.water_density, 100.0..=3000.0).suffix(" kg/m³"))
-        });
-        ui.label("Force law").on_hover_text(
+        c |= row(
+            ui,
+            marks,
+            "water density",
+            "Water density",
+            "ρ of the water",
+            |ui| ui.add(slider(&mut physics.water_density, 100.0..=3000.0).suffix(" kg/m³")),
+        );
+        label_ui(
+            ui,
+            marks,
+            &["force law"],
+            "Force law",
             "Rosellini: pressure C_l ρ U max(0, v_n) S (puts the magic angle near 20°); Paper: ½ C_l ρ v_n² S; \
              Bocquet: ½ C_l ρ U² S (his 2D model)",
         );
@@ -309,27 +484,31 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         let (dl, df) = physics.force_law.default_coefficients();
         c |= coefficient_row(
             ui,
-            "C_l",
-            "Lift (pressure) coefficient",
+            marks,
+            ["lift coefficient", "C_l", "Lift (pressure) coefficient"],
             &mut physics.lift_coefficient,
             dl,
             0.0..=5.0,
         );
         c |= coefficient_row(
             ui,
-            "C_f",
-            "Friction coefficient",
+            marks,
+            ["friction coefficient", "C_f", "Friction coefficient"],
             &mut physics.friction_coefficient,
             df,
             0.0..=2.0,
         );
-        ui.label("Ventilated").on_hover_text(
+        label_ui(
+            ui,
+            marks,
+            &["ventilated"],
+            "Ventilated",
             "Pressure and friction only on faces advancing into the water (the rear sits in an air cavity)",
         );
         c |= ui.checkbox(&mut physics.ventilated, "").changed();
         ui.end_row();
-        c |= loading_options_ui(ui, physics);
-        ui.label("Integrator");
+        c |= loading_options_ui(ui, physics, marks);
+        label_ui(ui, marks, &["integrator"], "Integrator", "");
         let before = physics.integrator;
         egui::ComboBox::from_id_salt("integrator")
             .selected_text(format!("{:?}", physics.integrator))
@@ -343,12 +522,18 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         if physics.integrator == Integrator::Adaptive {
             c |= row(
                 ui,
+                marks,
+                "tolerance",
                 "Tolerance",
                 "Adaptive's relative error per step",
                 |ui| ui.add(slider(&mut physics.tolerance, 1e-10..=1e-3).logarithmic(true)),
             );
         }
-        ui.label("Rotation").on_hover_text(
+        label_ui(
+            ui,
+            marks,
+            &["rotation"],
+            "Rotation",
             "Locked: attitude held (the paper). Free: a rigid body with spin and torque.",
         );
         let before = physics.rotation;
@@ -359,7 +544,11 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         ui.end_row();
         c |= before != physics.rotation;
         if physics.rotation == Rotation::Free {
-            ui.label("Pressure centre").on_hover_text(
+            label_ui(
+                ui,
+                marks,
+                &["pressure centre"],
+                "Pressure centre",
                 "Where the lift acts along the flow (torque only). Faces: each face's centroid (the paper). \
                  Planing: a fraction of the wetted length ahead of its trailing edge (Savitsky: 0.75).",
             );
@@ -378,13 +567,19 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
             if let PressureCentre::Planing(f) = &mut physics.pressure_centre {
                 c |= row(
                     ui,
+                    marks,
+                    "pressure centre.Planing",
                     "Centre at",
                     "Fraction of the wetted length ahead of its trailing edge",
                     |ui| ui.add(slider(f, 0.0..=1.0)),
                 );
             }
             c |= before != physics.pressure_centre;
-            ui.label("Axial spin").on_hover_text(
+            label_ui(
+                ui,
+                marks,
+                &["axial spin"],
+                "Axial spin",
                 "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves                  no water normal to its surface (only friction feels it). Faceted: the mesh's flat facets                  paddle the water as they spin.",
             );
             let before = physics.axial_spin;
@@ -397,6 +592,8 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         }
         c |= row(
             ui,
+            marks,
+            "dt",
             "Time step",
             "The tick: fixed step (Adaptive's upper bound)",
             |ui| {
@@ -407,23 +604,30 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
                 )
             },
         );
-        c |= row(ui, "Max time", "The run ends (timeout) here", |ui| {
-            ui.add(slider(&mut physics.max_time, 1.0..=120.0).suffix(" s"))
-        });
+        c |= row(
+            ui,
+            marks,
+            "max time",
+            "Max time",
+            "The run ends (timeout) here",
+            |ui| ui.add(slider(&mut physics.max_time, 1.0..=120.0).suffix(" s")),
+        );
         c
     });
     changed
 }
 
+/// A coefficient the law defaults: `field` is [field name, label, tooltip].
 fn coefficient_row(
     ui: &mut Ui,
-    name: &str,
-    tip: &str,
+    marks: &Marks,
+    field: [&str; 3],
     value: &mut Option<f64>,
     default: f64,
     range: std::ops::RangeInclusive<f64>,
 ) -> bool {
-    ui.label(name).on_hover_text(tip);
+    let [key, name, tip] = field;
+    label_ui(ui, marks, &[key], name, tip);
     let mut changed = false;
     ui.horizontal(|ui| {
         let mut custom = value.is_some();
@@ -449,32 +653,52 @@ fn coefficient_row(
 }
 
 /// The water grid: these need a new simulation (applied at the next throw or reset).
-pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
+pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
     let mut changed = false;
-    changed |= ui
-        .checkbox(&mut water.enabled, "Simulate the water (rings)")
-        .on_hover_text("Off: a flat, rigid surface at z = 0")
-        .changed();
-    changed |= ui
-        .checkbox(&mut water.wavy_contact, "Wavy contact")
-        .on_hover_text("The stone meets the simulated surface instead of z = 0")
-        .changed();
+    ui.horizontal(|ui| {
+        changed |= ui
+            .checkbox(&mut water.enabled, "Simulate the water (rings)")
+            .on_hover_text("Off: a flat, rigid surface at z = 0")
+            .changed();
+        dot_ui(ui, marks, "enabled");
+    });
+    ui.horizontal(|ui| {
+        changed |= ui
+            .checkbox(&mut water.wavy_contact, "Wavy contact")
+            .on_hover_text("The stone meets the simulated surface instead of z = 0")
+            .changed();
+        dot_ui(ui, marks, "wavy contact");
+    });
     changed |= grid(ui, "water", |ui| {
         let mut c = false;
-        c |= row(ui, "Length", "Extent of the grid along x", |ui| {
-            ui.add(
-                slider(&mut water.size[0], 2.0..=200.0)
-                    .logarithmic(true)
-                    .suffix(" m"),
-            )
-        });
-        c |= row(ui, "Width", "Extent of the grid along y", |ui| {
-            ui.add(
-                slider(&mut water.size[1], 2.0..=200.0)
-                    .logarithmic(true)
-                    .suffix(" m"),
-            )
-        });
+        c |= row(
+            ui,
+            marks,
+            "size[0]",
+            "Length",
+            "Extent of the grid along x",
+            |ui| {
+                ui.add(
+                    slider(&mut water.size[0], 2.0..=200.0)
+                        .logarithmic(true)
+                        .suffix(" m"),
+                )
+            },
+        );
+        c |= row(
+            ui,
+            marks,
+            "size[1]",
+            "Width",
+            "Extent of the grid along y",
+            |ui| {
+                ui.add(
+                    slider(&mut water.size[1], 2.0..=200.0)
+                        .logarithmic(true)
+                        .suffix(" m"),
+                )
+            },
+        );
         // Cells: at least 4 across, at most MAX_WATER_COLUMNS in all.
         let area = water.size[0] * water.size[1];
         let min_cell = ((area / MAX_WATER_COLUMNS as f64).sqrt() * 1.02).max(0.005);
@@ -483,6 +707,8 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
             .max(min_cell);
         c |= row(
             ui,
+            marks,
+            "cell",
             "Cell",
             "Column size: finer shows smaller ripples, costs more",
             |ui| {
@@ -493,22 +719,33 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
                 )
             },
         );
-        c |= row(ui, "Depth", "Rest depth H: wave speed √(gH)", |ui| {
-            ui.add(
-                slider(&mut water.depth, 0.02..=5.0)
-                    .logarithmic(true)
-                    .suffix(" m"),
-            )
-        });
-        c |= row(ui, "Damping", "Per second", |ui| {
+        c |= row(
+            ui,
+            marks,
+            "depth",
+            "Depth",
+            "Rest depth H: wave speed √(gH)",
+            |ui| {
+                ui.add(
+                    slider(&mut water.depth, 0.02..=5.0)
+                        .logarithmic(true)
+                        .suffix(" m"),
+                )
+            },
+        );
+        c |= row(ui, marks, "damping", "Damping", "Per second", |ui| {
             ui.add(slider(&mut water.damping, 0.0..=5.0).suffix(" 1/s"))
         });
-        ui.label("Pipes");
+        label_ui(ui, marks, &["diagonal pipes"], "Pipes", "");
         c |= ui
             .checkbox(&mut water.diagonal_pipes, "diagonals (isotropic)")
             .changed();
         ui.end_row();
-        ui.label("Limiter").on_hover_text(
+        label_ui(
+            ui,
+            marks,
+            &["limiter"],
+            "Limiter",
             "MassConserving: exact volume, never negative (Mei et al.). PaperClamp: eq. 41, creates water",
         );
         let before = water.limiter;
@@ -524,7 +761,11 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
             });
         ui.end_row();
         c |= before != water.limiter;
-        ui.label("Precision").on_hover_text(
+        label_ui(
+            ui,
+            marks,
+            &["precision"],
+            "Precision",
             "Storage of depths and flows: F32 halves the memory traffic; F64 conserves volume to rounding",
         );
         let before = water.precision;
@@ -539,18 +780,26 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
         c
     });
     let mut swell = water.swell.is_some();
-    if ui.checkbox(&mut swell, "Swell (a wavy lake)").changed() {
-        water.swell = swell.then(Swell::default);
-        changed = true;
-    }
+    ui.horizontal(|ui| {
+        if ui.checkbox(&mut swell, "Swell (a wavy lake)").changed() {
+            water.swell = swell.then(Swell::default);
+            changed = true;
+        }
+        dot_ui(ui, marks, "swell");
+    });
     let depth = water.depth;
     if let Some(s) = water.swell.as_mut() {
         changed |= grid(ui, "swell", |ui| {
             let mut c = false;
-            c |= row(ui, "Amplitude", "At most half the depth", |ui| {
-                ui.add(slider(&mut s.amplitude, 0.0..=(0.5 * depth).min(0.3)).suffix(" m"))
-            });
-            c |= row(ui, "Wavelength", "", |ui| {
+            c |= row(
+                ui,
+                marks,
+                "swell.amplitude",
+                "Amplitude",
+                "At most half the depth",
+                |ui| ui.add(slider(&mut s.amplitude, 0.0..=(0.5 * depth).min(0.3)).suffix(" m")),
+            );
+            c |= row(ui, marks, "swell.wavelength", "Wavelength", "", |ui| {
                 ui.add(
                     slider(&mut s.wavelength, 0.2..=30.0)
                         .logarithmic(true)
@@ -559,6 +808,8 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams) -> bool {
             });
             c |= row(
                 ui,
+                marks,
+                "swell.heading deg",
                 "Direction",
                 "The swell travels this way, from +x",
                 |ui| ui.add(slider(&mut s.heading_deg, -180.0..=180.0).suffix("°")),
@@ -607,10 +858,14 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
 }
 
 /// The options of how faces are loaded (issue 11): receding faces without ventilation, buoyancy.
-fn loading_options_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
+fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut c = false;
     if !physics.ventilated {
-        ui.label("Receding faces").on_hover_text(
+        label_ui(
+            ui,
+            marks,
+            &["pressure sign"],
+            "Receding faces",
             "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed                  along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its                  own normal velocity (never gains energy).",
         );
         let before = physics.pressure_sign;
@@ -629,7 +884,11 @@ fn loading_options_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
         ui.end_row();
         c |= before != physics.pressure_sign;
     }
-    ui.label("Buoyancy").on_hover_text(
+    label_ui(
+        ui,
+        marks,
+        &["buoyancy"],
+        "Buoyancy",
         "Hydrostatic pressure ρ g d on each loaded face (Archimedes): matters once the stone is deep",
     );
     c |= ui.checkbox(&mut physics.buoyancy, "").changed();
@@ -704,6 +963,176 @@ mod tests {
         frame(vec![key(egui::Key::Enter)], &mut value);
         frame(vec![], &mut value);
         value
+    }
+
+    use crate::app::edits::{launch_differences, section_differences, Difference};
+    use crate::sim::params::Preset;
+
+    fn marks_of(d: &[Difference]) -> Marks {
+        Marks::new(d.iter().map(|d| (d.field.as_str(), d.preset.as_str())))
+    }
+
+    /// Draws `panel` once in a bare egui context (as the app does each frame).
+    fn draw(panel: impl FnMut(&mut Ui)) {
+        let ctx = egui::Context::default();
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(800.0, 2000.0),
+            )),
+            ..Default::default()
+        };
+        let mut panel = panel;
+        let mut out = ctx.run_ui(input, |ui| panel(ui));
+        out.textures_delta.clear();
+    }
+
+    #[test]
+    fn marks_pick_the_rows_that_differ_with_the_presets_value() {
+        let p = Preset::default();
+        let mut launch = p.launch;
+        let v = glam::DVec3::from_array(launch.velocity);
+        launch.velocity = (v * 14.0 / v.length()).to_array();
+        launch.angular_velocity[1] = 3.0;
+        let m = marks_of(&launch_differences(&p.launch, &launch));
+        let speed = m.for_row(&["Speed"]).expect("Speed differs");
+        assert!(
+            speed.starts_with(&format!("{}", v.length().round())),
+            "{speed}"
+        );
+        assert_eq!(m.for_row(&["Tilt"]), None);
+        assert_eq!(
+            m.for_row(&["Heading"]),
+            None,
+            "turning nothing marks nothing"
+        );
+        assert_eq!(
+            m.for_row(&["Wobble x", "Wobble y", "Wobble z"]).as_deref(),
+            Some("Wobble y 0 rad/s")
+        );
+        let mut physics = p.physics;
+        physics.gravity = 1.62;
+        let m = marks_of(&section_differences(&p.physics, &physics));
+        assert_eq!(
+            m.for_row(&["gravity"]),
+            Some(format!("{}", p.physics.gravity))
+        );
+        assert_eq!(m.for_row(&["water density"]), None);
+        assert_eq!(m.for_row(&["dt"]), None);
+        // A swell added: its checkbox is marked (the preset had none), not its rows.
+        let mut water = p.water;
+        water.swell = Some(Swell::default());
+        let m = marks_of(&section_differences(&p.water, &water));
+        assert_eq!(m.for_row(&["swell"]).as_deref(), Some("none"));
+        assert_eq!(m.for_row(&["swell.amplitude"]), None);
+        // Nothing changed: no row is marked.
+        let m = marks_of(&section_differences(&p.water, &p.water));
+        assert_eq!(m.for_row(&["cell"]), None);
+        assert!(m.unshown().is_empty());
+    }
+
+    /// Every value a panel can change, changed at once: each difference lands on a drawn row (the
+    /// rows' field names match the names `app::edits` gives), none is left unmarked.
+    #[test]
+    fn every_difference_a_panel_can_make_is_marked_on_its_row() {
+        let mut p = Preset::default();
+        p.physics.rotation = Rotation::Free;
+        p.physics.integrator = Integrator::Adaptive;
+        p.physics.ventilated = false;
+        p.physics.pressure_centre = PressureCentre::Planing(0.75);
+        p.water.swell = Some(Swell::default());
+        let mut l = p.launch;
+        l.velocity = [9.0, 1.0, 2.0];
+        l.attitude.tilt_deg += 1.0;
+        l.attitude.bank_deg += 1.0;
+        l.attitude.heading_deg += 1.0;
+        l.spin += 1.0;
+        l.position = [0.5, 0.5, 0.5];
+        l.angular_velocity = [1.0, 2.0, 3.0];
+        let mut stone = p.stone.clone();
+        stone.shape = match stone.shape {
+            Shape::Lens { radius, thickness } => Shape::Lens {
+                radius: radius * 1.1,
+                thickness: thickness * 1.1,
+            },
+            other => other,
+        };
+        stone.mass *= 1.5;
+        stone.segments += 8;
+        let mut ph = p.physics;
+        ph.gravity = 5.0;
+        ph.water_density = 900.0;
+        ph.force_law = ForceLaw::Bocquet;
+        ph.lift_coefficient = Some(1.0);
+        ph.friction_coefficient = Some(0.5);
+        ph.pressure_sign = PressureSign::OpposesMotion;
+        ph.buoyancy = !ph.buoyancy;
+        ph.tolerance *= 10.0;
+        ph.pressure_centre = PressureCentre::Planing(0.5);
+        ph.axial_spin = match ph.axial_spin {
+            AxialSpin::Smooth => AxialSpin::Faceted,
+            AxialSpin::Faceted => AxialSpin::Smooth,
+        };
+        ph.dt *= 0.5;
+        ph.max_time += 1.0;
+        let mut w = p.water;
+        w.enabled = !w.enabled;
+        w.wavy_contact = !w.wavy_contact;
+        w.size = [30.0, 10.0];
+        w.cell *= 1.5;
+        w.depth *= 1.5;
+        w.damping += 0.1;
+        w.diagonal_pipes = !w.diagonal_pipes;
+        w.limiter = Limiter::PaperClamp;
+        w.precision = Precision::F64;
+        w.swell = Some(Swell {
+            amplitude: 0.03,
+            wavelength: 2.0,
+            heading_deg: 45.0,
+        });
+        let d = [
+            launch_differences(&p.launch, &l),
+            section_differences(&p.stone, &stone),
+            section_differences(&p.physics, &ph),
+            section_differences(&p.water, &w),
+        ];
+        let counts: Vec<usize> = d.iter().map(Vec::len).collect();
+        assert_eq!(counts, [13, 4, 12, 13], "{d:?}");
+        let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
+        draw(|ui| {
+            launch_ui(ui, &mut l, &m[0]);
+            stone_ui(ui, &mut stone, &m[1]);
+            physics_ui(ui, &mut ph, &m[2]);
+            water_ui(ui, &mut w, &m[3]);
+        });
+        for (section, marks) in ["launch", "stone", "physics", "water"].iter().zip(&m) {
+            assert!(
+                marks.unshown().is_empty(),
+                "{section}: {:?}",
+                marks.unshown()
+            );
+        }
+        // The rest: ventilation (it hides "Receding faces"), rotation and integrator (they hide
+        // the free stone's and Adaptive's rows), another shape.
+        let mut ph2 = p.physics;
+        ph2.ventilated = true;
+        ph2.rotation = Rotation::Locked;
+        ph2.integrator = Integrator::Rk4;
+        let mut stone2 = p.stone.clone();
+        stone2.shape = Shape::Plate {
+            length: 0.1,
+            width: 0.08,
+            thickness: 0.01,
+        };
+        let m2 = marks_of(&section_differences(&p.physics, &ph2));
+        let m3 = marks_of(&section_differences(&p.stone, &stone2));
+        draw(|ui| {
+            physics_ui(ui, &mut ph2, &m2);
+            stone_ui(ui, &mut stone2, &m3);
+        });
+        assert!(m2.unshown().is_empty(), "{:?}", m2.unshown());
+        assert_eq!(m2.for_row(&["rotation"]).as_deref(), Some("Free"));
+        assert!(m3.unshown().is_empty(), "{:?}", m3.unshown());
     }
 
     #[test]

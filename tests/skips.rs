@@ -1,0 +1,114 @@
+//! Skip counting (the rule in `stoneskip::sim::ContactEvent`): an episode that ends in the air is a
+//! skip only when the water turned the stone upward (v_out.z > v_in.z); a crest that brushes a
+//! stone gravity keeps decelerating is a graze, listed but not counted. Checked on a swell with wavy
+//! contact, where crests brush the rising stone; on flat water every exit stays a skip.
+
+use std::path::Path;
+
+use stoneskip::sim::params::{Preset, Swell};
+use stoneskip::sim::{ContactEvent, Simulation};
+
+fn shipped(stem: &str) -> Preset {
+    stoneskip::preset::load(Path::new(&format!("assets/presets/{stem}.ron"))).unwrap()
+}
+
+/// Runs to the end; returns the contacts and the hops: apexes of the centre's height in flight
+/// (vertical velocity from up to down between two flight steps) after the first touch.
+fn run(p: &Preset) -> (Vec<ContactEvent>, usize, usize) {
+    let mut sim = Simulation::new(p).unwrap();
+    let mut hops = 0;
+    let mut prev: Option<(bool, f64)> = None;
+    let mut touched = false;
+    let mut guard = 0;
+    while !sim.is_finished() {
+        guard += 1;
+        assert!(guard < 1_000_000, "the run ends");
+        sim.tick_with(&mut |s| {
+            touched |= s.in_contact;
+            let vz = s.state.velocity.z;
+            if let Some((was_contact, was_vz)) = prev {
+                if touched && !was_contact && !s.in_contact && was_vz > 0.0 && vz <= 0.0 {
+                    hops += 1;
+                }
+            }
+            prev = Some((s.in_contact, vz));
+        });
+    }
+    (sim.contacts().to_vec(), sim.skips(), hops)
+}
+
+/// The water's vertical impulse over an episode per unit mass (m/s): Δv_z + g·T.
+fn impulse_per_mass(c: &ContactEvent, g: f64) -> f64 {
+    c.v_out[2] - c.v_in[2] + g * (c.t_end - c.t_start)
+}
+
+/// The default throw over a 2 cm, 3 m swell with wavy contact: crests brush the stone as it climbs
+/// away from a bounce. Those grazes carry next to no impulse (under a tenth of the weight's over
+/// their duration, against several times the weight for a bounce), are not counted, and the count
+/// equals the hops a student sees: one apex in flight after each skip.
+#[test]
+fn swell_grazes_are_listed_but_not_counted() {
+    let mut p = shipped("default");
+    p.water.swell = Some(Swell::default());
+    assert!(p.water.wavy_contact);
+    let g = p.physics.gravity;
+    let (contacts, skips, hops) = run(&p);
+    let grazes: Vec<_> = contacts.iter().filter(|c| c.graze).collect();
+    let exits = contacts.iter().filter(|c| c.skip || c.graze).count();
+    eprintln!(
+        "{} contacts, {exits} ended in the air, {skips} skips, {} grazes, {hops} hops",
+        contacts.len(),
+        grazes.len()
+    );
+    assert!(!grazes.is_empty(), "crests brush the stone on this swell");
+    for c in &grazes {
+        let weight = g * (c.t_end - c.t_start);
+        let j = impulse_per_mass(c, g);
+        assert!(
+            j < 0.1 * weight + 1e-9,
+            "a graze carries next to no impulse: J/m = {j:.2e} m/s against g·T = {weight:.2e}: {c:?}"
+        );
+        assert!(!c.skip, "{c:?}");
+    }
+    for c in contacts.iter().filter(|c| c.skip) {
+        assert!(
+            impulse_per_mass(c, g) > 2.0 * g * (c.t_end - c.t_start),
+            "a skip's water bore more than twice the weight: {c:?}"
+        );
+        assert!(
+            c.v_in[2] < 0.0 && c.v_out[2] > 0.0,
+            "on this throw every skip turns a fall into a climb: {c:?}"
+        );
+    }
+    assert_eq!(skips, contacts.iter().filter(|c| c.skip).count());
+    assert_eq!(skips, hops, "one skip per visible hop");
+    assert!(
+        skips >= 5,
+        "the default throw still skips over a gentle swell: {skips}"
+    );
+}
+
+/// On flat water (wavy contact off) the rule does not apply: every episode that ends in the air is a
+/// skip, as before it (even the default free stone's rim brushing the water while it tumbles
+/// after its first bounce, which the wavy rule would call a graze).
+#[test]
+fn flat_water_counts_every_exit() {
+    for stem in ["default", "record_throw", "paper"] {
+        let mut p = shipped(stem);
+        p.water.wavy_contact = false;
+        let (contacts, skips, _) = run(&p);
+        assert!(skips >= 2, "{stem}: {skips} skips");
+        assert!(
+            contacts.iter().all(|c| !c.graze),
+            "{stem}: no graze on flat water: {contacts:?}"
+        );
+        let in_air = contacts.iter().filter(|c| c.skip || c.graze).count();
+        assert_eq!(skips, in_air, "{stem}: every exit is a skip");
+        if stem == "default" {
+            assert!(
+                contacts.iter().any(|c| c.skip && c.v_out[2] <= c.v_in[2]),
+                "the free stone's rim brushes the flat water and it still counts: {contacts:?}"
+            );
+        }
+    }
+}
