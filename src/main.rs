@@ -150,6 +150,26 @@ fn parse_view(s: &str) -> Result<stoneskip::render::ViewMode, String> {
     }
 }
 
+/// The most time a run has left: it ends at `max_time` at the latest, `remaining` simulated
+/// seconds away, advancing at `rate` simulated seconds per real second.
+fn time_left(remaining: f64, rate: f64) -> String {
+    if !(rate > 0.0 && rate.is_finite()) {
+        return "no estimate of the time left: no simulated time advanced in the last second"
+            .to_owned();
+    }
+    let s = remaining.max(0.0) / rate;
+    let span = if s < 120.0 {
+        format!("{s:.0} s")
+    } else if s < 7200.0 {
+        format!("{:.0} min", s / 60.0)
+    } else if s < 172_800.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{:.0} days", s / 86_400.0)
+    };
+    format!("at most ~{span} left at the current rate, {rate:.3e} simulated s per s")
+}
+
 fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Result<()> {
     let preset: Preset = preset::load(path)?;
     let mut sim = Simulation::new(&preset).with_context(|| format!("{}", path.display()))?;
@@ -185,28 +205,38 @@ fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Re
         None => None,
     };
     let started = Instant::now();
-    let mut last_report = started;
+    let (mut last_report, mut last_t) = (started, sim.time());
     let mut io_error: Option<std::io::Error> = None;
     while !sim.is_finished() && !cancel.load(Ordering::SeqCst) {
-        sim.tick_with(&mut |s| {
-            if let Some(w) = writer.as_mut() {
-                if io_error.is_none() {
-                    if let Err(e) = w.step(s) {
-                        io_error = Some(e);
+        // A costly tick (finding S1) yields between steps for the report and for Ctrl-C; the
+        // next call resumes it, so the run is the same.
+        let due = |_| cancel.load(Ordering::SeqCst) || last_report.elapsed().as_secs_f64() > 1.0;
+        sim.tick_until(
+            &mut |s| {
+                if let Some(w) = writer.as_mut() {
+                    if io_error.is_none() {
+                        if let Err(e) = w.step(s) {
+                            io_error = Some(e);
+                        }
                     }
                 }
-            }
-        });
+            },
+            &due,
+        );
         if let Some(e) = io_error.take() {
             return Err(e).context("writing the CSV");
         }
-        if last_report.elapsed().as_secs_f64() > 1.0 {
+        let since = last_report.elapsed().as_secs_f64();
+        if since > 1.0 {
+            let rate = (sim.time() - last_t) / since;
             last_report = Instant::now();
+            last_t = sim.time();
             eprintln!(
-                "t = {:.2} s simulated, {} skips so far ({:.1} s elapsed)",
+                "t = {:.6} s simulated, {} skips so far ({:.1} s elapsed; {})",
                 sim.time(),
                 sim.skips(),
-                started.elapsed().as_secs_f64()
+                started.elapsed().as_secs_f64(),
+                time_left(preset.physics.max_time - sim.time(), rate)
             );
         }
     }
@@ -223,4 +253,21 @@ fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Re
         print!("{}", text_summary(&summary));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::time_left;
+
+    #[test]
+    fn the_time_left_is_the_remaining_time_over_the_rate() {
+        // 0.1 s left at 10⁻³ simulated s per s: 100 s.
+        assert!(time_left(0.1, 1e-3).starts_with("at most ~100 s left"));
+        assert!(time_left(1.0, 1e-3).starts_with("at most ~17 min left"));
+        assert!(time_left(20.0, 1e-3).starts_with("at most ~5.6 h left"));
+        assert!(time_left(20.0, 1e-5).starts_with("at most ~23 days left"));
+        assert!(time_left(-1.0, 1.0).starts_with("at most ~0 s left"));
+        assert!(time_left(1.0, 0.0).starts_with("no estimate"));
+        assert!(time_left(1.0, f64::NAN).starts_with("no estimate"));
+    }
 }

@@ -33,23 +33,38 @@ pub fn lake_rect(p: &Preset) -> Option<Rect> {
     })
 }
 
-/// The extent of the stone's track on flat water (its centre of mass from launch to outcome).
+/// Most force evaluations the flat-water check may spend (it runs on the UI thread): a shipped
+/// preset needs at most 2.5·10⁴ (`record_throw`); a throw costlier than this (finding S1 in
+/// docs/reliability.md) goes unchecked rather than freeze the app.
+pub const MAX_CHECK_EVALS: u64 = 400_000;
+
+/// The extent of the stone's track on flat water (its centre of mass from launch to outcome), or
+/// why there is none (an invalid preset, or a throw too costly to check).
 pub fn flat_track(p: &Preset) -> Result<Rect, String> {
     let mut dry = p.clone();
     dry.water.enabled = false;
     let mut sim = Simulation::new(&dry).map_err(|e| e.to_string())?;
     let s = sim.state().position;
     let (mut lo, mut hi) = ([s.x, s.y], [s.x, s.y]);
-    sim.run(
-        &mut |step| {
-            let q = step.state.position;
-            if q.x.is_finite() && q.y.is_finite() {
-                lo = [lo[0].min(q.x), lo[1].min(q.y)];
-                hi = [hi[0].max(q.x), hi[1].max(q.y)];
-            }
-        },
-        &|| false,
-    );
+    let too_costly = |(_, evals): (u64, u64)| evals >= MAX_CHECK_EVALS;
+    while !sim.is_finished() {
+        if too_costly(sim.cost()) {
+            return Err(format!(
+                "the throw costs more than {MAX_CHECK_EVALS} force evaluations on flat water: \
+                 not checked against the lake"
+            ));
+        }
+        sim.tick_until(
+            &mut |step| {
+                let q = step.state.position;
+                if q.x.is_finite() && q.y.is_finite() {
+                    lo = [lo[0].min(q.x), lo[1].min(q.y)];
+                    hi = [hi[0].max(q.x), hi[1].max(q.y)];
+                }
+            },
+            &too_costly,
+        );
+    }
     Ok(Rect { lo, hi })
 }
 

@@ -20,7 +20,7 @@ use crate::render::build::{self, aim_preview, framing_of, ghost_lines, side_guid
 use crate::render::camera::{camera_for, Framing, ViewMode};
 use crate::render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
 use crate::sim::params::{Integrator, Launch, Preset};
-use crate::sim::{Outcome, Simulation, StepSample};
+use crate::sim::{Outcome, Simulation, StepSample, TickProgress};
 use crate::ui::{
     contact_kind, slide_distance, Action, ContactKind, FrameTiming, Message, Phase, PlotSeries,
     PresetLibrary, Readouts, Section, ViewRequest, ViewSettings,
@@ -28,8 +28,19 @@ use crate::ui::{
 
 /// Most simulated time one frame may run (s, at the highest playback speed); the rest is skipped.
 pub const MAX_SIM_PER_FRAME: f64 = 0.25;
-/// Most wall time one frame may spend ticking.
+/// Most wall time one frame may spend ticking; a frame stops at it even inside a tick (between two
+/// steps of the stone), and the tick resumes at the next frame.
 pub const PHYSICS_BUDGET: Duration = Duration::from_millis(60);
+/// The wall-time budget while the physics runs behind ([`Pace::behind`]): it cannot catch up
+/// anyway, so the frames come at about 30 a second instead of 15.
+pub const PHYSICS_BUDGET_BEHIND: Duration = Duration::from_millis(25);
+/// Most force evaluations one frame may spend ticking, whatever the clock says: a backstop that
+/// bounds a frame's work by count (about 0.2 s of the costliest throws found, finding S1 in
+/// docs/reliability.md, on the development machine; a shipped preset needs at most about 2·10⁴ a
+/// frame at 60 frames a second, `too_steep`).
+pub const PHYSICS_EVAL_BUDGET: u64 = 250_000;
+/// Real time over which the pace of the physics is measured (s).
+pub const PACE_WINDOW: f64 = 1.0;
 /// Most step samples kept for the CSV export.
 pub const MAX_SAMPLES: usize = 1_000_000;
 /// Refresh rate of the numbers and plots while a throw animates …
@@ -188,6 +199,69 @@ fn wrap(a: f64) -> f64 {
     }
 }
 
+/// What one frame may spend on physics: the first of its wall time and its force evaluations
+/// that runs out stops it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameBudget {
+    pub wall: Duration,
+    /// The wall time while the physics runs behind.
+    pub wall_behind: Duration,
+    pub force_evals: u64,
+}
+
+impl Default for FrameBudget {
+    fn default() -> Self {
+        Self {
+            wall: PHYSICS_BUDGET,
+            wall_behind: PHYSICS_BUDGET_BEHIND,
+            force_evals: PHYSICS_EVAL_BUDGET,
+        }
+    }
+}
+
+/// The pace of the physics over the last [`PACE_WINDOW`] of real time: per frame, the real
+/// seconds, the simulated seconds advanced, and whether the frame ran out of its budget.
+#[derive(Debug, Clone, Default)]
+pub struct Pace {
+    frames: VecDeque<(f64, f64, bool)>,
+}
+
+impl Pace {
+    /// Records a frame of `real` seconds that advanced the run by `simulated` seconds.
+    pub fn record(&mut self, real: f64, simulated: f64, short: bool) {
+        let real = if real.is_finite() {
+            real.clamp(0.0, super::clock::MAX_FRAME_DT)
+        } else {
+            0.0
+        };
+        self.frames.push_back((real, simulated.max(0.0), short));
+        let mut total: f64 = self.frames.iter().map(|f| f.0).sum();
+        while self.frames.len() > 1 && total - self.frames[0].0 >= PACE_WINDOW {
+            total -= self.frames[0].0;
+            self.frames.pop_front();
+        }
+    }
+
+    pub fn clear(&mut self) {
+        self.frames.clear();
+    }
+
+    /// Real seconds per simulated second over the window (∞ when the run did not advance), while
+    /// a frame of the window ran out of its budget; `None` when the physics kept up.
+    pub fn behind(&self) -> Option<f64> {
+        if !self.frames.iter().any(|f| f.2) {
+            return None;
+        }
+        let real: f64 = self.frames.iter().map(|f| f.0).sum();
+        let simulated: f64 = self.frames.iter().map(|f| f.1).sum();
+        Some(if simulated > 0.0 {
+            real / simulated
+        } else {
+            f64::INFINITY
+        })
+    }
+}
+
 /// A status message and when it was posted.
 #[derive(Debug, Clone)]
 pub struct Status {
@@ -225,6 +299,8 @@ pub struct Shown {
     pub outcome: Option<String>,
     pub dropping_now: bool,
     pub dropped_total: f64,
+    /// Real seconds per simulated second while the physics runs behind ([`Pace::behind`]).
+    pub behind: Option<f64>,
     pub at: Option<Instant>,
     pub frame: u64,
 }
@@ -261,6 +337,13 @@ pub struct Model {
     /// `edit` changed since the lake check (it costs a flat-water run: done once a drag ends).
     pub lake_stale: bool,
     pub sim: Simulation,
+    /// What a frame may spend on physics.
+    pub budget: FrameBudget,
+    /// How fast the physics went over the last second of real time.
+    pub pace: Pace,
+    /// A physics edit made while a tick was in progress: applied when that tick is complete (so
+    /// that a replay, which applies it between ticks, gives the same run).
+    deferred_physics: Option<crate::sim::params::Physics>,
     /// Changes whenever `sim` is rebuilt.
     pub generation: u64,
     pub phase: Phase,
@@ -334,6 +417,9 @@ impl Model {
             lake_stale: true,
             edit: preset,
             sim,
+            budget: FrameBudget::default(),
+            pace: Pace::default(),
+            deferred_physics: None,
             generation: 0,
             phase: Phase::Ready,
             clock: FixedClock::new(dt, 1),
@@ -473,6 +559,8 @@ impl Model {
         self.last_drop = None;
         self.resting = false;
         self.outcome_time = None;
+        self.pace.clear();
+        self.deferred_physics = None;
         let pose = self.sim.world_from_stone();
         self.prev_pose = pose;
         self.cur_pose = pose;
@@ -572,7 +660,19 @@ impl Model {
 
     /// One tick, recording the trail, samples and plots, and the time it took.
     pub fn tick_once(&mut self) {
-        self.replay_log.apply_due(self.ticks, &mut self.sim);
+        self.tick_part(&|_| false);
+    }
+
+    /// One tick or the part of it before `should_yield` (given the run's (steps, force
+    /// evaluations)) says stop (see [`Simulation::tick_until`]): true when the tick is complete.
+    /// Replay's changes and deferred physics edits apply at a tick's start only.
+    fn tick_part(&mut self, should_yield: &dyn Fn((u64, u64)) -> bool) -> bool {
+        if !self.sim.tick_in_progress() {
+            if let Some(physics) = self.deferred_physics.take() {
+                self.apply_physics(physics);
+            }
+            self.replay_log.apply_due(self.ticks, &mut self.sim);
+        }
         self.prev_pose = self.cur_pose;
         let water_steps = self.sim.water().map(|w| w.steps());
         let start = Instant::now();
@@ -583,34 +683,49 @@ impl Model {
             plots,
             ..
         } = self;
-        sim.tick_with(&mut |s| {
-            trail.push(s);
-            if samples.len() < MAX_SAMPLES {
-                samples.push(*s);
-            }
-            plots.push(s);
-        });
+        let progress = sim.tick_until(
+            &mut |s| {
+                trail.push(s);
+                if samples.len() < MAX_SAMPLES {
+                    samples.push(*s);
+                }
+                plots.push(s);
+            },
+            should_yield,
+        );
         let took = start.elapsed().as_secs_f64();
         if self.sim.water().map(|w| w.steps()) != water_steps {
             let stone = self.stone_tick.min(took);
             self.frame_physics += stone;
             self.frame_water += took - stone;
         } else {
-            self.stone_tick = if self.stone_tick == 0.0 {
-                took
-            } else {
-                0.95 * self.stone_tick + 0.05 * took
-            };
+            if progress == TickProgress::Done {
+                self.stone_tick = if self.stone_tick == 0.0 {
+                    took
+                } else {
+                    0.95 * self.stone_tick + 0.05 * took
+                };
+            }
             self.frame_physics += took;
         }
-        self.ticks += 1;
         self.cur_pose = self.sim.world_from_stone();
+        let done = progress == TickProgress::Done;
+        if done {
+            self.ticks += 1;
+        }
+        done
     }
 
-    /// Runs the ticks due after `real_dt` seconds of real time, then applies the rest rule.
+    /// Runs the ticks due after `real_dt` seconds of real time within the frame's [`budget`],
+    /// then applies the rest rule. The budget stops the frame even inside a tick (between two
+    /// steps of the stone); the tick resumes first thing at the next frame, and the steps the
+    /// clock promised but the frame could not run are skipped (the clock does not pile up).
+    ///
+    /// [`budget`]: Model::budget
     pub fn advance(&mut self, real_dt: f64) {
         self.ticks_last_frame = 0;
         if self.phase == Phase::Ready || self.resting {
+            self.pace.clear();
             return;
         }
         self.clock.set_paused(self.phase == Phase::Paused);
@@ -618,15 +733,54 @@ impl Model {
         if due.skipped > 0.0 {
             self.last_drop = Some(Instant::now());
         }
+        let t_before = self.sim.time();
         let start = Instant::now();
-        for i in 0..due.steps {
-            if start.elapsed() > PHYSICS_BUDGET {
-                self.clock.skip_steps(due.steps - i);
-                self.last_drop = Some(Instant::now());
+        let budget = self.budget;
+        let wall = if self.pace.behind().is_some() {
+            budget.wall_behind.min(budget.wall)
+        } else {
+            budget.wall
+        };
+        let evals_before = self.sim.cost().1;
+        let spent = move |(_, evals): (u64, u64)| {
+            evals.saturating_sub(evals_before) >= budget.force_evals || start.elapsed() > wall
+        };
+        let mut todo = due.steps;
+        let mut short = false;
+        if self.sim.tick_in_progress() {
+            // Promised by an earlier frame; while paused it is the tick a Step asks for.
+            if self.phase == Phase::Paused {
+                todo = todo.saturating_sub(1);
+            }
+            if self.tick_part(&spent) {
+                self.ticks_last_frame += 1;
+            } else {
+                short = true;
+            }
+        }
+        let mut begun = 0;
+        while !short && begun < todo {
+            if spent(self.sim.cost()) {
+                short = true;
                 break;
             }
-            self.tick_once();
-            self.ticks_last_frame += 1;
+            begun += 1;
+            if self.tick_part(&spent) {
+                self.ticks_last_frame += 1;
+            } else {
+                short = true;
+            }
+        }
+        if short {
+            self.clock.skip_steps(todo - begun);
+            self.last_drop = Some(Instant::now());
+        }
+        if self.phase == Phase::Running {
+            let simulated = self.sim.time() - t_before;
+            self.pace
+                .record(real_dt, simulated, short || due.skipped > 0.0);
+        } else {
+            self.pace.clear();
         }
         self.check_rest();
     }
@@ -745,6 +899,7 @@ impl Model {
     /// Frames are being drawn one after another: the run animates or the camera moves.
     pub fn animating(&self) -> bool {
         (self.phase == Phase::Running && !self.resting)
+            || self.sim.tick_in_progress()
             || self.camera_moving()
             || self.camera_settling()
             || self.gesture.is_some()
@@ -912,20 +1067,34 @@ impl Model {
                 self.invalid = None;
                 self.warnings = setup_warnings(&self.edit);
                 self.lake_stale = true;
-                let physics = self.edit.physics;
-                match self.sim.set_physics(physics) {
-                    Ok(()) => {
-                        self.clock.set_step(physics.dt);
-                        if self.phase != Phase::Ready {
-                            // Replay takes over the user's change from here on.
-                            self.replay_log.record(self.ticks, physics);
-                            self.resting = false;
-                        }
-                    }
-                    Err(e) => self.invalid = Some(e.to_string()),
+                if self.sim.tick_in_progress() {
+                    // Between ticks, where a replay would apply it too.
+                    self.deferred_physics = Some(self.edit.physics);
+                } else {
+                    self.apply_physics(self.edit.physics);
                 }
             }
         }
+    }
+
+    /// A live change of the physics, recorded for replay.
+    fn apply_physics(&mut self, physics: crate::sim::params::Physics) {
+        match self.sim.set_physics(physics) {
+            Ok(()) => {
+                self.clock.set_step(physics.dt);
+                if self.phase != Phase::Ready {
+                    // Replay takes over the user's change from here on.
+                    self.replay_log.record(self.ticks, physics);
+                    self.resting = false;
+                }
+            }
+            Err(e) => self.invalid = Some(e.to_string()),
+        }
+    }
+
+    /// Real seconds per simulated second while the physics runs behind (see [`Pace::behind`]).
+    pub fn running_behind(&self) -> Option<f64> {
+        self.pace.behind()
     }
 
     /// Takes a new snapshot of what the panels show (every frame when still, at
@@ -957,6 +1126,11 @@ impl Model {
                     .last_drop
                     .is_some_and(|t| t.elapsed() < Duration::from_secs(2)),
             dropped_total: self.clock.skipped_total(),
+            behind: if self.resting {
+                None
+            } else {
+                self.running_behind()
+            },
             at: Some(Instant::now()),
             frame: self.frames,
         };

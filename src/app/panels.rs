@@ -173,6 +173,7 @@ impl Model {
             pending_changes: self.pending_changes,
             dropped_total: self.shown.dropped_total,
             dropping_now: self.shown.dropping_now,
+            behind: self.shown.behind,
             can_replay: self.replay_log.can_replay(),
             invalid: self.invalid.clone(),
         };

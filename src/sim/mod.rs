@@ -4,8 +4,9 @@
 //!
 //! [`Simulation`] advances in ticks of `physics.dt` (Adaptive sub-steps inside a tick, never across
 //! one). The time step is a parameter, never read from a clock, and nothing is random: the same
-//! preset gives bit-identical results. Depends on glam, serde, thiserror and rayon only; knows
-//! nothing of frames, windows or wall-clock time.
+//! preset gives bit-identical results. A tick may be split between two steps of the stone and
+//! resumed ([`Simulation::tick_until`], the app's cost guard) without changing a bit. Depends on
+//! glam, serde, thiserror and rayon only; knows nothing of frames, windows or wall-clock time.
 //!
 //! Events are located, not sampled at step ends: the first touch along the exact flight (its
 //! clearance bounded along the torque-free motion and over the waves, so a tumbling stone's or a
@@ -318,6 +319,35 @@ pub struct Simulation {
     step_water: bool,
     launch_position: DVec3,
     motion: Motion,
+    /// The tick begun by [`Simulation::tick_until`] and not yet finished (it yielded inside).
+    open_tick: Option<OpenTick>,
+}
+
+/// A tick in progress: its target time, its length and its step guard, so that the next call of
+/// [`Simulation::tick_until`] continues the same tick exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct OpenTick {
+    t_end: f64,
+    dt: f64,
+    /// Steps taken in this tick so far (against [`MAX_STEPS_PER_TICK`]).
+    steps: u32,
+}
+
+/// How far a call of [`Simulation::tick_until`] got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TickProgress {
+    /// The tick is complete: the stone reached its end (or its outcome) and the water advanced.
+    Done,
+    /// The caller asked to yield between two steps of the stone; the next call continues the tick.
+    Partial,
+}
+
+/// How far the stone got towards the tick's end.
+enum StoneProgress {
+    /// Reached the tick's end or the outcome.
+    Reached,
+    /// Yielded after this many steps of the tick.
+    Yielded(u32),
 }
 
 impl Simulation {
@@ -376,6 +406,7 @@ impl Simulation {
             },
             stone,
             water,
+            open_tick: None,
         };
         sim.refresh_water_max();
         let clearance = sim.clearance(&state);
@@ -531,35 +562,89 @@ impl Simulation {
     }
 
     /// Advances by one tick, calling `on_step` after every accepted step of the stone. After the
-    /// outcome the stone stays where it ended and only the water moves on.
+    /// outcome the stone stays where it ended and only the water moves on. A tick that never
+    /// yields: it also completes a tick left open by [`Simulation::tick_until`].
     pub fn tick_with(&mut self, on_step: &mut dyn FnMut(&StepSample)) {
-        let dt = self.preset.physics.dt;
-        let t_end = self.motion.time + dt;
+        self.tick_until(on_step, &|_| false);
+    }
+
+    /// A tick that can stop early: `should_yield`, given the run's cost so far ([`Simulation::cost`]:
+    /// accepted steps, force evaluations), is polled after every accepted step of the stone that
+    /// leaves the tick unfinished (never inside a step, and never before the call's first step, so
+    /// every call makes progress). When it says yield, the call returns
+    /// [`TickProgress::Partial`] with the tick's target time and step guard kept, and the next call
+    /// continues that same tick: a tick split over any number of calls gives bit-identical results
+    /// to [`Simulation::tick_with`]. The water advances only once the stone's part of the tick is
+    /// complete. The closure is how a caller brings in a wall clock; the simulation reads none.
+    ///
+    /// A tick once begun keeps its length even if [`Simulation::set_physics`] changes `dt` before
+    /// it is complete; the new `dt` applies from the next tick.
+    pub fn tick_until(
+        &mut self,
+        on_step: &mut dyn FnMut(&StepSample),
+        should_yield: &dyn Fn((u64, u64)) -> bool,
+    ) -> TickProgress {
+        let tick = self.open_tick.take().unwrap_or_else(|| {
+            let dt = self.preset.physics.dt;
+            OpenTick {
+                t_end: self.motion.time + dt,
+                dt,
+                steps: 0,
+            }
+        });
         if !self.is_finished() {
-            self.advance_stone(t_end, on_step);
+            if let StoneProgress::Yielded(steps) =
+                self.advance_stone(tick.t_end, tick.steps, on_step, should_yield)
+            {
+                self.open_tick = Some(OpenTick { steps, ..tick });
+                // The water takes the impulses only when it steps, at the tick's end, and nothing
+                // reads them before: handing over those of the tick so far now gives the very sums
+                // (same order) and spreads a costly tick's deposits (S1b: 3.6·10⁵ face loads a
+                // tick) over the calls.
+                self.deposit_pending();
+                return TickProgress::Partial;
+            }
         }
+        self.finish_tick(tick.t_end, tick.dt);
+        TickProgress::Done
+    }
+
+    /// A tick began and not yet complete (a [`Simulation::tick_until`] that yielded).
+    pub fn tick_in_progress(&self) -> bool {
+        self.open_tick.is_some()
+    }
+
+    /// The end of a tick once the stone is at `t_end`: the timeout, then the water's step of `dt`
+    /// with the stone's impulses of the tick.
+    fn finish_tick(&mut self, t_end: f64, dt: f64) {
         self.motion.time = t_end;
         if !self.is_finished() && self.motion.time >= self.preset.physics.max_time - 1e-12 {
             self.finish(Outcome::Timeout);
         }
+        self.deposit_pending();
         if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
-            for l in &self.motion.pending {
-                w.deposit_impulse_box(l.x, l.y, l.half, l.impulse);
-                w.deposit_momentum_box(l.x, l.y, l.half, l.horizontal);
-            }
             let before = w.time();
             w.advance(dt);
             let stepped = w.time() != before;
-            self.motion.pending.clear();
             if stepped && self.preset.water.wavy_contact {
                 // The surface the last forces were evaluated on has moved.
                 self.motion.fsal = None;
             }
             // Every tick: the bounds cover the region the stone can reach in the next one.
             self.refresh_water_max();
-        } else {
-            self.motion.pending.clear();
         }
+    }
+
+    /// Hands the face impulses gathered so far in the tick to the water, in their order (the grid
+    /// sums them into its pending loads, applied when it next steps).
+    fn deposit_pending(&mut self) {
+        if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
+            for l in &self.motion.pending {
+                w.deposit_impulse_box(l.x, l.y, l.half, l.impulse);
+                w.deposit_momentum_box(l.x, l.y, l.half, l.horizontal);
+            }
+        }
+        self.motion.pending.clear();
     }
 
     /// The highest η and an upper bound of the slope |∇η| of the surface the stone can touch during
@@ -576,7 +661,10 @@ impl Simulation {
         }
         let Some(w) = &self.water else { return };
         let s = &self.motion.state;
-        let dt = self.preset.physics.dt;
+        // Inside an open tick (a live change of the physics) the rest of that tick, too.
+        let dt = self
+            .open_tick
+            .map_or(self.preset.physics.dt, |t| t.dt.max(self.preset.physics.dt));
         let speed = s.velocity.length() + self.preset.physics.gravity * dt;
         let reach = self.stone.bounding_radius + 2.0 * speed * dt + 2.0 * w.cell();
         let (m, slope) = local_bounds(w, s.position.x, s.position.y, reach);
@@ -644,17 +732,29 @@ impl Simulation {
         self.finish(Outcome::Diverged);
     }
 
-    /// Steps the stone until `t_end` or its outcome.
-    fn advance_stone(&mut self, t_end: f64, on_step: &mut dyn FnMut(&StepSample)) {
-        let mut guard = 0u32;
+    /// Steps the stone until `t_end` or its outcome, `steps` steps of the tick having been taken
+    /// before; after every step that leaves the tick unfinished, yields if `should_yield` says so.
+    fn advance_stone(
+        &mut self,
+        t_end: f64,
+        steps: u32,
+        on_step: &mut dyn FnMut(&StepSample),
+        should_yield: &dyn Fn((u64, u64)) -> bool,
+    ) -> StoneProgress {
+        let mut guard = steps;
+        let mut first = true;
         while self.motion.time < t_end && self.motion.outcome.is_none() {
+            if !first && should_yield((self.motion.steps, self.motion.force_evals)) {
+                return StoneProgress::Yielded(guard);
+            }
+            first = false;
             guard += 1;
             if guard > MAX_STEPS_PER_TICK {
                 self.diverge(format!(
                     "more than {MAX_STEPS_PER_TICK} steps in one tick at t = {:.6} s (a runaway step loop)",
                     self.motion.time
                 ));
-                return;
+                return StoneProgress::Reached;
             }
             let prev = self.motion.state;
             let t0 = self.motion.time;
@@ -668,7 +768,7 @@ impl Simulation {
                      (unstable at this step; a smaller dt or the Adaptive integrator avoids it)",
                     self.preset.physics.integrator, step.h
                 ));
-                return;
+                return StoneProgress::Reached;
             }
             if step.contact {
                 let j = water_impulse(
@@ -686,6 +786,7 @@ impl Simulation {
             self.motion.last_force = step.force;
             self.after_step(&prev, step.h, step.sunk, on_step);
         }
+        StoneProgress::Reached
     }
 
     /// One step of at most `h_max` with the preset's integrator: exact flight, or a contact step

@@ -94,12 +94,41 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
     }
 }
 
+/// The physics running behind in words: `real_per_sim` real seconds per simulated second
+/// (measured over the last second), at the playback `speed` asked for.
+pub fn behind_words(real_per_sim: f64, speed: f64) -> String {
+    if !real_per_sim.is_finite() {
+        return "physics running behind: no simulated time advanced in the last second".to_owned();
+    }
+    if real_per_sim >= 1.0 {
+        let n = if real_per_sim >= 10.0 {
+            format!("{real_per_sim:.0}")
+        } else {
+            format!("{real_per_sim:.1}")
+        };
+        return format!("physics running behind: {n}× slower than real time");
+    }
+    format!(
+        "physics running behind: {:.1}× real time of the {speed:.1}× asked",
+        1.0 / real_per_sim.max(1e-9)
+    )
+}
+
 /// The run's passing notices (running behind, changes waiting, why the settings are refused),
 /// as (text, is an error) lines: the app draws them over the 3D view, so they never move the
 /// layout.
 pub fn notices(c: &SimControls) -> Vec<(String, bool)> {
     let mut out = Vec::new();
-    if c.dropping_now {
+    if let Some(r) = c.behind {
+        out.push((
+            format!(
+                "{} ({:.2} s of simulated time skipped; results are unchanged)",
+                behind_words(r, c.speed),
+                c.dropped_total
+            ),
+            false,
+        ));
+    } else if c.dropping_now {
         out.push((
             format!(
                 "running behind: {:.2} s of simulated time skipped (results are unchanged)",

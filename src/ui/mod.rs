@@ -15,7 +15,7 @@ mod settings;
 
 use std::path::PathBuf;
 
-pub use controls::{notices, simulation_ui, view_ui};
+pub use controls::{behind_words, notices, simulation_ui, view_ui};
 pub use help::{about_ui, help_ui, SHORTCUTS};
 pub use presets::{file_stem_for, presets_ui, PresetLibrary};
 pub use readouts::{
@@ -114,6 +114,8 @@ pub struct SimControls {
     /// second.
     pub dropped_total: f64,
     pub dropping_now: bool,
+    /// Real seconds per simulated second over the last second, while the physics runs behind.
+    pub behind: Option<f64>,
     /// A last throw exists to replay.
     pub can_replay: bool,
     /// Why the edited preset is refused, if it is.
