@@ -690,7 +690,11 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
             (*r.members.first().unwrap_or(&0)).into(),
             (*r.members.last().unwrap_or(&0)).into(),
             r.members.len().into(),
-            r.tilt_after_first.into(),
+            if r.tilt_after_first.is_finite() {
+                r.tilt_after_first.into()
+            } else {
+                "".into()
+            },
         ]);
     }
     ctx.write_csv("spin_ensemble.csv", &c)?;
@@ -1079,7 +1083,7 @@ fn ensemble_step() -> f64 {
 fn spin_mechanism(f: &Fidelity) -> String {
     let mut s = String::from(
         "\n### Why the count falls at high spin\n\nThe same throw with its attitude held (the \
-         infinite-spin limit) at other tilts:\n\n",
+         high-spin limit) at other tilts:\n\n",
     );
     let rows: Vec<Vec<String>> = f
         .locked_tilts
@@ -1103,6 +1107,8 @@ fn spin_mechanism(f: &Fidelity) -> String {
         .windows(2)
         .filter(|w| w[1].median() < w[0].median())
         .max_by_key(|w| w[0].median() - w[1].median());
+    let fall =
+        fall.filter(|w| w[0].tilt_after_first.is_finite() && w[1].tilt_after_first.is_finite());
     if let Some(w) = fall {
         let (a, b) = (&w[0], &w[1]);
         s.push_str(&format!(
@@ -1175,7 +1181,11 @@ fn spin_section(f: &Fidelity) -> String {
                 ),
                 sig(r.shape.distance, 3),
                 format!("{:.0} %", 100.0 * r.shape.final_share),
-                sig(r.tilt_after_first, 3),
+                if r.tilt_after_first.is_finite() {
+                    sig(r.tilt_after_first, 3)
+                } else {
+                    "—".into()
+                },
             ]
         })
         .collect();
