@@ -127,6 +127,7 @@ fn params(law: ForceLaw, ventilated: bool, planing: bool, extras: &str) -> Hydro
         } else {
             0.0
         },
+        hydrostatic_wetted: false,
     }
 }
 

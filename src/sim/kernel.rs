@@ -55,8 +55,13 @@ pub fn fast_path_supports(hp: &HydroParams) -> bool {
         pressure_centre: _,
         opposing: _,
         smooth_spin: _,
-        rho_g: _,
+        rho_g,
+        hydrostatic_wetted,
     } = *hp;
+    // Hydrostatic load on receding ventilated faces: the reference alone (the lanes cull them).
+    if hydrostatic_wetted && rho_g != 0.0 && hp.ventilated {
+        return false;
+    }
     match law {
         ForceLaw::Paper | ForceLaw::Bocquet | ForceLaw::Rosellini => true,
     }
@@ -1874,6 +1879,7 @@ mod tests {
                     opposing: options & 2 != 0,
                     smooth_spin: false,
                     rho_g: if options & 4 != 0 { 9810.0 } else { 0.0 },
+                    hydrostatic_wetted: false,
                 };
                 for i in 0..500 {
                     let mut r = || 2.0 * rng(&mut seed) - 1.0;
@@ -1980,6 +1986,7 @@ mod tests {
                         opposing: extras & 1 != 0,
                         smooth_spin: extras & 2 != 0,
                         rho_g: if extras & 4 != 0 { 9810.0 } else { 0.0 },
+                        hydrostatic_wetted: false,
                     };
                     let mut r = || 2.0 * rng(&mut seed) - 1.0;
                     let pose = Pose {

@@ -250,6 +250,20 @@ pub enum AxialSpin {
     Smooth,
 }
 
+/// Which wetted faces carry the hydrostatic pressure ρ g d when `buoyancy` is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Hydrostatic {
+    /// Only the faces that carry the dynamic pressure (with `ventilated: true`, those advancing into
+    /// the water): a receding face loses its hydrostatic load too, so a submerged stone feels the
+    /// depth of its advancing side only, not Archimedes' ρ g V, and every face whose normal velocity
+    /// changes sign switches a finite force (finding A1, docs/reliability.md). Today's behaviour.
+    LoadedFaces,
+    /// Every wetted face (Archimedes: over the wetted surface the pressures ρ g d sum to ρ g times
+    /// the submerged volume, whatever the faces' motion). Ventilation (the flow leaving a receding
+    /// face, Rosellini et al. 2005) then removes the dynamic pressure and friction only.
+    WettedFaces,
+}
+
 /// Savitsky's centre of pressure: 0.75 of the wetted length ahead of the trailing edge.
 pub const SAVITSKY_CENTRE: f64 = 0.75;
 
@@ -288,6 +302,8 @@ pub struct Physics {
     pub axial_spin: AxialSpin,
     /// Hydrostatic pressure ρ g d on the loaded faces (Archimedes; d the wetted centroid's depth).
     pub buoyancy: bool,
+    /// Which wetted faces carry the hydrostatic pressure (with `buoyancy`).
+    pub hydrostatic: Hydrostatic,
     /// s: the tick (fixed step; Adaptive's upper bound).
     pub dt: f64,
     /// s
@@ -310,6 +326,7 @@ impl Default for Physics {
             pressure_sign: PressureSign::AsPrinted,
             axial_spin: AxialSpin::Faceted,
             buoyancy: false,
+            hydrostatic: Hydrostatic::LoadedFaces,
             dt: 0.005,
             max_time: 20.0,
         }
