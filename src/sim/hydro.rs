@@ -618,7 +618,7 @@ mod tests {
     }
 
     /// Ventilated, a submerged disk sinking slowly: with `LoadedFaces` only its advancing underside
-    /// carries ρ g d (at 0.2 m about 25× Archimedes for this 1 cm disk), with `WettedFaces` every
+    /// carries ρ g d (at 0.2 m about 20× Archimedes for this 1 cm disk), with `WettedFaces` every
     /// wetted face does and the pressures sum to ρ g V (lift and friction off, so nothing else acts).
     #[test]
     fn wetted_faces_give_archimedes_under_ventilation() {
