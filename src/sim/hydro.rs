@@ -617,12 +617,9 @@ mod tests {
         assert!(f.dot(v) > 0.0);
     }
 
-    /// Ventilated, a submerged disk sinking slowly: with `LoadedFaces` only its advancing underside
-    /// carries ρ g d (at 0.2 m about 20× Archimedes for this 1 cm disk), with `WettedFaces` every
-    /// wetted face does and the pressures sum to ρ g V (lift and friction off, so nothing else acts).
-    #[test]
-    fn wetted_faces_give_archimedes_under_ventilation() {
-        let stone = Stone::new(&crate::sim::params::StoneParams {
+    /// The 5 cm × 1 cm, 24-segment disk the buoyancy tests hold under water.
+    fn disk_5cm_by_1cm() -> Stone {
+        Stone::new(&crate::sim::params::StoneParams {
             shape: Shape::Disk {
                 radius: 0.05,
                 thickness: 0.01,
@@ -630,7 +627,15 @@ mod tests {
             mass: 0.1,
             segments: 24,
         })
-        .unwrap();
+        .unwrap()
+    }
+
+    /// Ventilated, a submerged disk sinking slowly: with `LoadedFaces` only its advancing underside
+    /// carries ρ g d (at 0.2 m about 20× Archimedes for this 1 cm disk), with `WettedFaces` every
+    /// wetted face does and the pressures sum to ρ g V (lift and friction off, so nothing else acts).
+    #[test]
+    fn wetted_faces_give_archimedes_under_ventilation() {
+        let stone = disk_5cm_by_1cm();
         let pose = Pose {
             position: DVec3::new(0.0, 0.0, -0.2),
             velocity: DVec3::new(0.0, 0.0, -1e-3),
@@ -669,15 +674,7 @@ mod tests {
     fn buoyancy_of_a_submerged_disk_is_archimedes() {
         // A disk held still just under the surface, unventilated (every wetted face loaded): the
         // hydrostatic pressures sum to ρ g V upwards with no torque (exact for planar faces).
-        let stone = Stone::new(&crate::sim::params::StoneParams {
-            shape: Shape::Disk {
-                radius: 0.05,
-                thickness: 0.01,
-            },
-            mass: 0.1,
-            segments: 24,
-        })
-        .unwrap();
+        let stone = disk_5cm_by_1cm();
         let h = HydroParams {
             rho_g: 1000.0 * 9.81,
             lift: 0.0,

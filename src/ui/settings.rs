@@ -264,28 +264,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
         ui.end_row();
         c
     });
-    let wobble = match marks.for_row(&["Wobble x", "Wobble y", "Wobble z"]) {
-        Some(_) => egui::RichText::new("Wobble (angular velocity) •").color(MARK_COLOR),
-        None => egui::RichText::new("Wobble (angular velocity)"),
-    };
-    egui::CollapsingHeader::new(wobble)
-        .id_salt("wobble")
-        .show(ui, |ui| {
-            ui.horizontal(|ui| {
-                for (i, axis) in ["x", "y", "z"].iter().enumerate() {
-                    changed |= ui
-                        .add(
-                            egui::DragValue::new(&mut launch.angular_velocity[i])
-                                .custom_parser(parse_finite)
-                                .range(-100.0..=100.0)
-                                .speed(0.1)
-                                .prefix(format!("{axis} ")),
-                        )
-                        .on_hover_text("rad/s, world frame, added to the spin")
-                        .changed();
-                }
-            });
-        });
+    changed |= wobble_ui(ui, launch, marks);
     if velocity_changed {
         let (e, h) = (elevation.to_radians(), heading.to_radians());
         launch.velocity = [
@@ -300,6 +279,34 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
         changed = true;
     }
     changed
+}
+
+/// The launch's extra angular velocity (world frame), in a collapsed section.
+fn wobble_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
+    let mut c = false;
+    let wobble = match marks.for_row(&["Wobble x", "Wobble y", "Wobble z"]) {
+        Some(_) => egui::RichText::new("Wobble (angular velocity) •").color(MARK_COLOR),
+        None => egui::RichText::new("Wobble (angular velocity)"),
+    };
+    egui::CollapsingHeader::new(wobble)
+        .id_salt("wobble")
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+                    c |= ui
+                        .add(
+                            egui::DragValue::new(&mut launch.angular_velocity[i])
+                                .custom_parser(parse_finite)
+                                .range(-100.0..=100.0)
+                                .speed(0.1)
+                                .prefix(format!("{axis} ")),
+                        )
+                        .on_hover_text("rad/s, world frame, added to the spin")
+                        .changed();
+                }
+            });
+        });
+    c
 }
 
 /// Stone: shape and size, mass, mesh resolution.
@@ -544,51 +551,7 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         ui.end_row();
         c |= before != physics.rotation;
         if physics.rotation == Rotation::Free {
-            label_ui(
-                ui,
-                marks,
-                &["pressure centre"],
-                "Pressure centre",
-                "Where the lift acts along the flow (torque only). Faces: each face's centroid (the paper). \
-                 Planing: a fraction of the wetted length ahead of its trailing edge (Savitsky: 0.75).",
-            );
-            let before = physics.pressure_centre;
-            let mut planing = matches!(physics.pressure_centre, PressureCentre::Planing(_));
-            ui.horizontal(|ui| {
-                ui.radio_value(&mut planing, false, "Faces");
-                ui.radio_value(&mut planing, true, "Planing");
-            });
-            ui.end_row();
-            physics.pressure_centre = match (planing, physics.pressure_centre) {
-                (false, _) => PressureCentre::Faces,
-                (true, PressureCentre::Planing(f)) => PressureCentre::Planing(f),
-                (true, PressureCentre::Faces) => PressureCentre::Planing(SAVITSKY_CENTRE),
-            };
-            if let PressureCentre::Planing(f) = &mut physics.pressure_centre {
-                c |= row(
-                    ui,
-                    marks,
-                    "pressure centre.Planing",
-                    "Centre at",
-                    "Fraction of the wetted length ahead of its trailing edge",
-                    |ui| ui.add(slider(f, 0.0..=1.0)),
-                );
-            }
-            c |= before != physics.pressure_centre;
-            label_ui(
-                ui,
-                marks,
-                &["axial spin"],
-                "Axial spin",
-                "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves                  no water normal to its surface (only friction feels it). Faceted: the mesh's flat facets                  paddle the water as they spin.",
-            );
-            let before = physics.axial_spin;
-            ui.horizontal(|ui| {
-                ui.radio_value(&mut physics.axial_spin, AxialSpin::Smooth, "Smooth");
-                ui.radio_value(&mut physics.axial_spin, AxialSpin::Faceted, "Faceted");
-            });
-            ui.end_row();
-            c |= before != physics.axial_spin;
+            c |= free_body_rows_ui(ui, physics, marks);
         }
         c |= row(
             ui,
@@ -615,6 +578,59 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         c
     });
     changed
+}
+
+/// The rows that matter only for a free rigid body: the pressure centre and the axial spin.
+fn free_body_rows_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
+    let mut c = false;
+    label_ui(
+        ui,
+        marks,
+        &["pressure centre"],
+        "Pressure centre",
+        "Where the lift acts along the flow (torque only). Faces: each face's centroid (the paper). \
+         Planing: a fraction of the wetted length ahead of its trailing edge (Savitsky: 0.75).",
+    );
+    let before = physics.pressure_centre;
+    let mut planing = matches!(physics.pressure_centre, PressureCentre::Planing(_));
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut planing, false, "Faces");
+        ui.radio_value(&mut planing, true, "Planing");
+    });
+    ui.end_row();
+    physics.pressure_centre = match (planing, physics.pressure_centre) {
+        (false, _) => PressureCentre::Faces,
+        (true, PressureCentre::Planing(f)) => PressureCentre::Planing(f),
+        (true, PressureCentre::Faces) => PressureCentre::Planing(SAVITSKY_CENTRE),
+    };
+    if let PressureCentre::Planing(f) = &mut physics.pressure_centre {
+        c |= row(
+            ui,
+            marks,
+            "pressure centre.Planing",
+            "Centre at",
+            "Fraction of the wetted length ahead of its trailing edge",
+            |ui| ui.add(slider(f, 0.0..=1.0)),
+        );
+    }
+    c |= before != physics.pressure_centre;
+    label_ui(
+        ui,
+        marks,
+        &["axial spin"],
+        "Axial spin",
+        "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves \
+                 no water normal to its surface (only friction feels it). Faceted: the mesh's flat facets \
+                 paddle the water as they spin.",
+    );
+    let before = physics.axial_spin;
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut physics.axial_spin, AxialSpin::Smooth, "Smooth");
+        ui.radio_value(&mut physics.axial_spin, AxialSpin::Faceted, "Faceted");
+    });
+    ui.end_row();
+    c |= before != physics.axial_spin;
+    c
 }
 
 /// A coefficient the law defaults: `field` is [field name, label, tooltip].
@@ -779,6 +795,13 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
         c |= before != water.precision;
         c
     });
+    changed |= swell_ui(ui, water, marks);
+    changed
+}
+
+/// The swell: on or off, and its amplitude (at most half the depth), wavelength and direction.
+fn swell_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
+    let mut changed = false;
     let mut swell = water.swell.is_some();
     ui.horizontal(|ui| {
         if ui.checkbox(&mut swell, "Swell (a wavy lake)").changed() {
