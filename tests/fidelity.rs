@@ -165,5 +165,8 @@ fn on_flat_water_reversed_spin_mirrors_the_curve() {
     let w = 150.0 * std::f64::consts::TAU;
     let (a, b) = (lateral(w), lateral(-w));
     assert!(a.abs() > 0.05, "a 150 rev/s stone curves: y = {a}");
-    assert!((a + b).abs() <= 0.01 * a.abs(), "y at touchdown 3: {a} and {b}");
+    assert!(
+        (a + b).abs() <= 0.01 * a.abs(),
+        "y at touchdown 3: {a} and {b}"
+    );
 }

@@ -274,7 +274,11 @@ fn spin_tilts(quick: bool) -> Result<Vec<(f64, ThrowShape, Vec<SpinRun>)>, Study
             let mut locked = q.clone();
             locked.physics.rotation = Rotation::Locked;
             let (_, locked) = shape(&locked)?;
-            Ok((tilt, locked, spin_runs(&q, &revs, &ensemble_offsets(quick))?))
+            Ok((
+                tilt,
+                locked,
+                spin_runs(&q, &revs, &ensemble_offsets(quick))?,
+            ))
         })
         .collect()
 }
@@ -930,11 +934,16 @@ fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
             .collect()
     };
     let by_spin = Chart::new(
-        &format!("Sideways position at touchdown {CURVE_AT} against spin (flat water)"),
+        format!("Sideways position at touchdown {CURVE_AT} against spin (flat water)"),
         "spin (rev/s)",
         "y (m)",
     )
-    .series(Series::new("friction on", at(true), colors::BLUE, Mark::LinePoints))
+    .series(Series::new(
+        "friction on",
+        at(true),
+        colors::BLUE,
+        Mark::LinePoints,
+    ))
     .series(Series::new(
         "friction off (gyroscopic part)",
         at(false),
@@ -1302,7 +1311,11 @@ fn tilt_check_section(f: &Fidelity) -> String {
          against the attitude held at that tilt:\n\n",
     );
     let mut header = vec!["launch tilt (°)".to_owned(), "locked".to_owned()];
-    header.extend(first.iter().map(|r| format!("{} rev/s", sig(r.rev_per_s, 3))));
+    header.extend(
+        first
+            .iter()
+            .map(|r| format!("{} rev/s", sig(r.rev_per_s, 3))),
+    );
     header.push("drops of the median".to_owned());
     let rows: Vec<Vec<String>> = f
         .spin_tilts
