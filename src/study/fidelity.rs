@@ -17,7 +17,7 @@ use std::f64::consts::TAU;
 use glam::DVec3;
 
 use crate::sim::metrics::{hovercraft, throw_shape, ThrowShape};
-use crate::sim::params::{AxialSpin, ForceLaw, Preset, PressureSign, Rotation};
+use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
@@ -584,8 +584,10 @@ fn anchors(quick: bool) -> Result<Vec<Anchor>, StudyError> {
         free.launch.spin = 65.0 * TAU;
         let mut buoyant = old.clone();
         buoyant.physics.buoyancy = true;
+        buoyant.physics.hydrostatic = Hydrostatic::WettedFaces;
         let mut new = free.clone();
         new.physics.buoyancy = true;
+        new.physics.hydrostatic = Hydrostatic::WettedFaces;
         new.physics.axial_spin = AxialSpin::Smooth;
         let u = |p: &Preset| scenario::min_speed(p, beta, 0.5, 12.0, 1e-3);
         Ok(Anchor {
