@@ -205,6 +205,8 @@ pub struct SpinRun {
     pub members: Vec<usize>,
     /// The stone's tilt (°) as it leaves its first contact; NaN without one.
     pub tilt_after_first: f64,
+    /// Duration of the first contact (s); NaN without one.
+    pub first_contact_s: f64,
     /// The stone's tilt (°) as it enters its last contact; NaN without one.
     pub tilt_at_last: f64,
 }
@@ -296,7 +298,8 @@ fn spin_runs(p: &Preset, revs: &[f64], offsets: &[f64]) -> Result<Vec<SpinRun>, 
         shape(&q).map(|(s, t)| {
             let first = s.contacts.first().map_or(f64::NAN, |c| c.attitude_out[0]);
             let last = s.contacts.last().map_or(f64::NAN, |c| c.attitude_in[0]);
-            (rev, dz, t, first, last)
+            let tau = s.contacts.first().map_or(f64::NAN, |c| c.t_end - c.t_start);
+            (rev, dz, t, first, last, tau)
         })
     })?;
     Ok(revs
@@ -311,6 +314,7 @@ fn spin_runs(p: &Preset, revs: &[f64], offsets: &[f64]) -> Result<Vec<SpinRun>, 
                 shape: centre.2,
                 members,
                 tilt_after_first: centre.3,
+                first_contact_s: centre.5,
                 tilt_at_last: centre.4,
             })
         })
@@ -1268,6 +1272,7 @@ fn spin_mechanism(f: &Fidelity) -> String {
                  itself); above it the gyroscope keeps most of the launch tilt.",
             );
         }
+        s.push_str(&clanet_turn_words(f));
         let shallow = f.locked_tilts.first();
         let launch = f.locked_tilts.iter().find(|l| l.tilt_deg == 20.0);
         if let (Some(lo), Some(l20)) = (shallow, launch) {
@@ -1301,6 +1306,46 @@ fn spin_mechanism(f: &Fidelity) -> String {
     }
     s.push_str(&tilt_check_section(f));
     s
+}
+
+/// Clanet et al. (2004): the attitude holds through a contact when the stone turns at least once
+/// during it (ω τ ≥ 2π). The first contact's duration τ against the spins that hold the tilt.
+fn clanet_turn_words(f: &Fidelity) -> String {
+    let tau: Vec<f64> = f
+        .spin
+        .iter()
+        .map(|r| r.first_contact_s)
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .collect();
+    if tau.is_empty() {
+        return String::new();
+    }
+    let lo = tau.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = tau.iter().copied().fold(0.0, f64::max);
+    let held: Vec<String> = f
+        .spin
+        .iter()
+        .filter(|r| [10.0, 20.0, 40.0, 80.0, 150.0].contains(&r.rev_per_s))
+        .filter(|r| r.tilt_after_first.is_finite())
+        .map(|r| {
+            format!(
+                "{} turns per contact at {} rev/s → tilt {}°",
+                sig(r.rev_per_s * r.first_contact_s, 2),
+                sig(r.rev_per_s, 3),
+                sig(r.tilt_after_first, 2)
+            )
+        })
+        .collect();
+    format!(
+        " Clanet et al. (2004) found the attitude held through a contact when the stone turns at \
+         least once during it; the first contact here lasts {}–{} ms over the sweep, so one turn \
+         per contact needs {}–{} rev/s ({}; launched at 20°).",
+        sig(1e3 * lo, 2),
+        sig(1e3 * hi, 2),
+        sig(1.0 / hi, 2),
+        sig(1.0 / lo, 2),
+        held.join(", ")
+    )
 }
 
 /// The spin sweep at other launch tilts: median (range) per spin, against the locked count.
@@ -1721,6 +1766,7 @@ mod tests {
             },
             members: vec![skips],
             tilt_after_first: f64::NAN,
+            first_contact_s: f64::NAN,
             tilt_at_last: f64::NAN,
         };
         assert_eq!(
