@@ -45,7 +45,7 @@ const NO_CHILD: u32 = u32::MAX;
 pub fn fast_path_supports(hp: &HydroParams) -> bool {
     // The kernel takes these as they are: the lanes' law mirrors `face_force` for every law
     // (tested bit for bit), ventilation either way, either pressure centre and sign, smooth or
-    // faceted spin, with or without buoyancy.
+    // faceted spin, with or without buoyancy, on the loaded or on every wetted face.
     let HydroParams {
         law,
         lift: _,
@@ -55,13 +55,9 @@ pub fn fast_path_supports(hp: &HydroParams) -> bool {
         pressure_centre: _,
         opposing: _,
         smooth_spin: _,
-        rho_g,
-        hydrostatic_wetted,
+        rho_g: _,
+        hydrostatic_wetted: _,
     } = *hp;
-    // Hydrostatic load on receding ventilated faces: the reference alone (the lanes cull them).
-    if hydrostatic_wetted && rho_g != 0.0 && hp.ventilated {
-        return false;
-    }
     match law {
         ForceLaw::Paper | ForceLaw::Bocquet | ForceLaw::Rosellini => true,
     }
@@ -629,6 +625,8 @@ struct Ctx<'a> {
     ventilated: bool,
     opposing: bool,
     rho_g: f64,
+    /// Receding ventilated faces keep their hydrostatic load (`hydrostatic: WettedFaces`).
+    wetted: bool,
     /// Centre-of-mass velocity and angular velocity (frame), speed U.
     v: DVec3,
     w: DVec3,
@@ -682,6 +680,7 @@ impl<'a> Ctx<'a> {
             ventilated: hp.ventilated,
             opposing: hp.opposing,
             rho_g: hp.rho_g,
+            wetted: hp.hydrostatic_wetted && hp.rho_g != 0.0,
             v: to_frame(pose.velocity),
             w: to_frame(pose.angular_velocity),
             speed: pose.velocity.length(),
@@ -707,10 +706,11 @@ impl<'a> Ctx<'a> {
         self.dir.is_none() && !(self.rho_g != 0.0 && self.wavy.is_some())
     }
 
-    /// The angular velocity the pressure sees is zero: a ventilated face receding from the water
-    /// (V·N ≤ 0) carries nothing, known before it is clipped.
-    fn pressure_sees_no_rotation(&self) -> bool {
-        self.normal_w.unwrap_or(self.w) == DVec3::ZERO
+    /// A ventilated face receding from the water (V·N ≤ 0) carries nothing, known before it is
+    /// clipped: the angular velocity the pressure sees is zero, and receding faces carry no
+    /// hydrostatic load.
+    fn culls_receding(&self) -> bool {
+        self.ventilated && !self.wetted && self.normal_w.unwrap_or(self.w) == DVec3::ZERO
     }
 
     /// Depth below the surface of the point at frame offset `r` from the centre of mass.
@@ -810,11 +810,18 @@ fn lane_law<const N: usize, const LAW: u8>(
             fy -= ty * q;
             fz -= tz * q;
         }
-        let zero = c.ventilated && vn <= 0.0;
-        f[0][l] = if zero { 0.0 } else { fx };
-        f[1][l] = if zero { 0.0 } else { fy };
-        f[2][l] = if zero { 0.0 } else { fz };
-        nonzero[l] = !zero && (fx != 0.0 || fy != 0.0 || fz != 0.0);
+        // Receding and ventilated: nothing, or (`WettedFaces`) the hydrostatic load alone.
+        if c.ventilated && vn <= 0.0 {
+            if c.wetted {
+                (fx, fy, fz) = (-nx * hydrostatic, -ny * hydrostatic, -nz * hydrostatic);
+            } else {
+                (fx, fy, fz) = (0.0, 0.0, 0.0);
+            }
+        }
+        f[0][l] = fx;
+        f[1][l] = fy;
+        f[2][l] = fz;
+        nonzero[l] = fx != 0.0 || fy != 0.0 || fz != 0.0;
     }
     (f, nonzero)
 }
@@ -1342,7 +1349,7 @@ mod simd {
                 vt_len,
             );
             let zc = |g: [__m256d; 3]| _mm256_add_pd(pos_z, dot_up(g[0], g[1], g[2]));
-            let p = normal_load::<EXTRA>(c, pressure, vn, area, || zc([gx, gy, gz]));
+            let (p, hydrostatic) = normal_load::<EXTRA>(c, pressure, vn, area, || zc([gx, gy, gz]));
             let neg = |x: __m256d| _mm256_xor_pd(x, sign_bit);
             let mut fx = _mm256_mul_pd(neg(nx), p);
             let mut fy = _mm256_mul_pd(neg(ny), p);
@@ -1353,6 +1360,13 @@ mod simd {
             fy = _mm256_blendv_pd(fy, _mm256_sub_pd(fy, _mm256_mul_pd(ty, q)), tangential);
             fz = _mm256_blendv_pd(fz, _mm256_sub_pd(fz, _mm256_mul_pd(tz, q)), tangential);
             let receding = _mm256_and_pd(vent, _mm256_cmp_pd::<_CMP_LE_OQ>(vn, zero));
+            let wetted = EXTRA && c.wetted;
+            if wetted {
+                // `WettedFaces`: a receding ventilated face keeps its hydrostatic load alone.
+                fx = _mm256_blendv_pd(fx, _mm256_mul_pd(neg(nx), hydrostatic), receding);
+                fy = _mm256_blendv_pd(fy, _mm256_mul_pd(neg(ny), hydrostatic), receding);
+                fz = _mm256_blendv_pd(fz, _mm256_mul_pd(neg(nz), hydrostatic), receding);
+            }
             let any = _mm256_or_pd(
                 _mm256_or_pd(
                     _mm256_cmp_pd::<_CMP_NEQ_UQ>(fx, zero),
@@ -1360,10 +1374,12 @@ mod simd {
                 ),
                 _mm256_cmp_pd::<_CMP_NEQ_UQ>(fz, zero),
             );
-            let loaded = _mm256_and_pd(
-                _mm256_andnot_pd(receding, any),
-                _mm256_cmp_pd::<_CMP_GT_OQ>(area, zero),
-            );
+            let carried = if wetted {
+                any
+            } else {
+                _mm256_andnot_pd(receding, any)
+            };
+            let loaded = _mm256_and_pd(carried, _mm256_cmp_pd::<_CMP_GT_OQ>(area, zero));
             let keep = |x: __m256d| _mm256_and_pd(x, loaded);
             af[0] = _mm256_add_pd(af[0], keep(fx));
             af[1] = _mm256_add_pd(af[1], keep(fy));
@@ -1447,8 +1463,9 @@ mod simd {
         (v, vdn, vn)
     }
 
-    /// sign · pressure + hydrostatic for four faces: the sign of v_n when the pressure opposes the
-    /// motion, else +1; ρ g max(0, depth) S with buoyancy (`zc`: the wetted centroids' heights).
+    /// sign · pressure + hydrostatic, and hydrostatic, for four faces: the sign of v_n when the
+    /// pressure opposes the motion, else +1; ρ g max(0, depth) S with buoyancy (`zc`: the wetted
+    /// centroids' heights).
     #[target_feature(enable = "avx2")]
     fn normal_load<const EXTRA: bool>(
         c: &Ctx,
@@ -1456,7 +1473,7 @@ mod simd {
         vn: __m256d,
         area: __m256d,
         zc: impl Fn() -> __m256d,
-    ) -> __m256d {
+    ) -> (__m256d, __m256d) {
         let zero = _mm256_setzero_pd();
         let set = |x: f64| _mm256_set1_pd(x);
         let signed = if EXTRA && c.opposing {
@@ -1476,7 +1493,7 @@ mod simd {
         } else {
             zero
         };
-        _mm256_add_pd(signed, hydrostatic)
+        (_mm256_add_pd(signed, hydrostatic), hydrostatic)
     }
 
     /// Pressure and friction magnitudes of the law for four faces (`k`: C_l, C_l ρ, C_f, U).
@@ -1580,7 +1597,7 @@ fn band_face<const LAW: u8, const ROT: bool>(
     loads: &mut Vec<FaceLoad>,
 ) {
     let normal = faces.normal(i);
-    if c.ventilated && c.pressure_sees_no_rotation() && normal.dot(c.v) <= 0.0 {
+    if c.culls_receding() && normal.dot(c.v) <= 0.0 {
         return; // receding without rotation: carries nothing
     }
     let p = [faces.corner(0, i), faces.corner(1, i), faces.corner(2, i)];
@@ -1861,13 +1878,14 @@ mod tests {
         (*seed >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    /// The lanes' law is the reference's, bit for bit, for every law, ventilation, pressure sign
-    /// and buoyancy, with the normal velocity given apart (smooth spin) or as v·N.
+    /// The lanes' law is the reference's, bit for bit, for every law, ventilation, pressure sign,
+    /// buoyancy on the loaded or every wetted face, with the normal velocity given apart (smooth
+    /// spin) or as v·N.
     #[test]
     fn lane_law_is_face_force_bit_for_bit() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
         for law in ForceLaw::ALL {
-            for options in 0..8u32 {
+            for options in 0..16u32 {
                 let (lift, friction) = law.default_coefficients();
                 let hp = HydroParams {
                     law,
@@ -1879,7 +1897,7 @@ mod tests {
                     opposing: options & 2 != 0,
                     smooth_spin: false,
                     rho_g: if options & 4 != 0 { 9810.0 } else { 0.0 },
-                    hydrostatic_wetted: false,
+                    hydrostatic_wetted: options & 8 != 0,
                 };
                 for i in 0..500 {
                     let mut r = || 2.0 * rng(&mut seed) - 1.0;
@@ -1973,7 +1991,7 @@ mod tests {
         let end = faces.len() / LANES * LANES;
         let mut seed = 12345u64;
         for law in ForceLaw::ALL {
-            for (ventilated, spin, extras) in (0..32u32).map(|k| (k & 1 != 0, k & 2 != 0, k >> 2)) {
+            for (ventilated, spin, extras) in (0..64u32).map(|k| (k & 1 != 0, k & 2 != 0, k >> 2)) {
                 {
                     let (lift, friction) = law.default_coefficients();
                     let hp = HydroParams {
@@ -1986,7 +2004,7 @@ mod tests {
                         opposing: extras & 1 != 0,
                         smooth_spin: extras & 2 != 0,
                         rho_g: if extras & 4 != 0 { 9810.0 } else { 0.0 },
-                        hydrostatic_wetted: false,
+                        hydrostatic_wetted: extras & 8 != 0,
                     };
                     let mut r = || 2.0 * rng(&mut seed) - 1.0;
                     let pose = Pose {
