@@ -29,7 +29,9 @@ use glam::{DMat3, DQuat, DVec3};
 use super::contact::clip_triangle;
 use super::hydro::{FaceLoad, ForceSum, HydroParams, Pose, Surface};
 use super::params::{ForceLaw, Shape};
-use super::stone::{Mesh, Stone};
+use super::stone::{Mesh, RevolutionLayout, Stone};
+
+mod rings;
 
 /// Width of the vector lanes (f64).
 pub const LANES: usize = 4;
@@ -235,14 +237,22 @@ pub struct KernelMesh {
     vertex_count: usize,
     /// Margin on the boxes' bounds of u·p, far above the rounding of u·p (m).
     slack: f64,
+    /// A body of revolution's rings and strips (the free-rotation path without boxes).
+    revolution: Option<rings::Revolution>,
 }
 
 /// Margin on the bounds of u·n (unit normals).
 const NORMAL_SLACK: f64 = 1e-12;
 
 impl KernelMesh {
-    /// From the centred mesh and its body-frame normals and areas.
-    pub fn new(mesh: &Mesh, normals: &[DVec3], areas: &[f64]) -> Self {
+    /// From the centred mesh, its body-frame normals and areas, and its layout when it is a
+    /// body of revolution (checked against the mesh; unused when it does not fit).
+    pub fn new(
+        mesh: &Mesh,
+        normals: &[DVec3],
+        areas: &[f64],
+        layout: Option<&RevolutionLayout>,
+    ) -> Self {
         let reach = mesh
             .positions
             .iter()
@@ -296,6 +306,7 @@ impl KernelMesh {
             vertex_nodes,
             vertex_count: mesh.positions.len(),
             slack: 1e-12 * reach.max(f64::MIN_POSITIVE),
+            revolution: layout.and_then(|l| rings::Revolution::new(mesh, normals, areas, l, reach)),
         }
     }
 }
@@ -482,6 +493,7 @@ pub struct KernelScratch {
     sorted: Option<Sorted>,
     heights: VertexHeights,
     wet: Vec<u32>,
+    rings: rings::RingScratch,
 }
 
 /// Faces in world axes (offsets from the centre of mass) for one orientation, in groups of
@@ -876,6 +888,8 @@ struct Acc {
     listed: LaneAcc<LANES>,
     single: LaneAcc<1>,
     band: LaneAcc<1>,
+    /// The clipped faces of the ring path, four at a time.
+    band4: LaneAcc<LANES>,
 }
 
 impl Default for Acc {
@@ -894,6 +908,7 @@ impl Default for Acc {
             listed: LaneAcc::default(),
             single: LaneAcc::default(),
             band: LaneAcc::default(),
+            band4: LaneAcc::default(),
         }
     }
 }
@@ -1709,11 +1724,13 @@ struct Call<'a> {
 /// The sums as a [`ForceSum`] (world axes).
 fn finish(call: &Call, c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
     let mut acc = *acc;
-    let (chunks, listed, single, band) = (acc.chunks, acc.listed, acc.single, acc.band);
+    let (chunks, listed, single, band, band4) =
+        (acc.chunks, acc.listed, acc.single, acc.band, acc.band4);
     acc.add_lanes(&chunks);
     acc.add_lanes(&listed);
     acc.add_lanes(&single);
     acc.add_lanes(&band);
+    acc.add_lanes(&band4);
     let mut torque = acc.torque;
     if let (Some(fraction), Some(dir)) = (call.hp.pressure_centre, c.dir) {
         torque += acc.planing_shift(fraction, dir);
@@ -1750,6 +1767,7 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
         sorted,
         heights,
         wet,
+        ..
     } = ks;
     let Some(s) = sorted.as_ref() else {
         return ForceSum::default();
@@ -1810,6 +1828,9 @@ fn body_path<const LAW: u8>(
     loads: &mut Vec<FaceLoad>,
 ) -> ForceSum {
     let km = &stone.kernel;
+    if let Some(rev) = &km.revolution {
+        return rings::ring_path::<LAW>(stone, rev, call, ks, loads);
+    }
     let pose = call.pose;
     let (rot, u) = frame(pose.orientation);
     let c = Ctx::new(stone, call.hp, pose, Some(rot), call);
