@@ -206,7 +206,7 @@ impl RingScratch {
         }
         self.smin = self.s[m];
         let h = sides(n);
-        for side in 0..2 {
+        for (side, &h) in h.iter().enumerate() {
             let at = |d: usize| {
                 let j = if side == 0 { m + d } else { m + n - d };
                 self.s[j % n]
@@ -214,19 +214,19 @@ impl RingScratch {
             let (max, tail) = (&mut self.max[side], &mut self.tail[side]);
             max.clear();
             let mut run = f64::NEG_INFINITY;
-            for d in 0..=h[side] {
+            for d in 0..=h {
                 run = run.max(at(d));
                 max.push(run);
             }
             tail.clear();
-            tail.resize(h[side] + 1, f64::INFINITY);
+            tail.resize(h + 1, f64::INFINITY);
             let mut run = f64::INFINITY;
-            for d in (0..h[side]).rev() {
+            for d in (0..h).rev() {
                 run = run.min(at(d + 1));
                 tail[d] = run;
             }
         }
-        self.smax = self.max[0][h[0]].max(self.max[1][h[1]]);
+        self.smax = self.max[0][self.max[0].len() - 1].max(self.max[1][self.max[1].len() - 1]);
         m
     }
 
