@@ -1377,10 +1377,7 @@ mod simd {
             let receding = _mm256_and_pd(vent, _mm256_cmp_pd::<_CMP_LE_OQ>(vn, zero));
             let wetted = EXTRA && c.wetted;
             if wetted {
-                // `WettedFaces`: a receding ventilated face keeps its hydrostatic load alone.
-                fx = _mm256_blendv_pd(fx, _mm256_mul_pd(neg(nx), hydrostatic), receding);
-                fy = _mm256_blendv_pd(fy, _mm256_mul_pd(neg(ny), hydrostatic), receding);
-                fz = _mm256_blendv_pd(fz, _mm256_mul_pd(neg(nz), hydrostatic), receding);
+                [fx, fy, fz] = hydrostatic_when([fx, fy, fz], [nx, ny, nz], hydrostatic, receding);
             }
             let any = _mm256_or_pd(
                 _mm256_or_pd(
@@ -1427,6 +1424,19 @@ mod simd {
         wr(&mut la.area, aa);
         wr(&mut la.axial, ax);
     }
+    /// `WettedFaces`: where `receding`, a face keeps its hydrostatic load −N h alone.
+    #[target_feature(enable = "avx2")]
+    fn hydrostatic_when(
+        f: [__m256d; 3],
+        n: [__m256d; 3],
+        h: __m256d,
+        receding: __m256d,
+    ) -> [__m256d; 3] {
+        let sign_bit = _mm256_set1_pd(-0.0);
+        let load = |n: __m256d| _mm256_mul_pd(_mm256_xor_pd(n, sign_bit), h);
+        [0, 1, 2].map(|k| _mm256_blendv_pd(f[k], load(n[k]), receding))
+    }
+
     /// The faces' velocities v = V + ω × g (or V), v·N, and the normal velocity the pressure sees
     /// (from ω_⊥ on the smooth body, `wn`), for four faces with normals `n` and centroids `g`.
     #[target_feature(enable = "avx2")]
