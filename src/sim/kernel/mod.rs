@@ -215,6 +215,17 @@ impl FaceSoa {
         self.verts.push(verts);
     }
 
+    /// Normals, centroids and areas only (the wetted patches of clipped faces), `len` of them, every
+    /// one zero (an empty patch) until set.
+    fn reset_patches(&mut self, len: usize) {
+        for col in self.n.iter_mut().chain(&mut self.g) {
+            col.clear();
+            col.resize(len, 0.0);
+        }
+        self.area.clear();
+        self.area.resize(len, 0.0);
+    }
+
     fn corner(&self, k: usize, i: usize) -> DVec3 {
         DVec3::new(self.pos[k][0][i], self.pos[k][1][i], self.pos[k][2][i])
     }

@@ -183,6 +183,8 @@ pub(super) struct RingScratch {
     maybe: Vec<Arc>,
     /// Faces crossing the waterline and their corners' heights, clipped together in lanes.
     band: Vec<(u32, [f64; 3])>,
+    /// Their wetted patches (normal, centroid, area), for the wholly wet faces' lanes.
+    patches: FaceSoa,
 }
 
 /// The sides' lengths for n vertices: right offsets 0..=hr, left offsets 1..=hl (n = 1 + hr + hl).
@@ -431,7 +433,7 @@ pub(super) fn ring_path<const LAW: u8>(
     rs.wet = wet_arcs;
     rs.maybe = maybe_arcs;
     wet_faces::<LAW, true>(&c, faces, 0..0, wet, &mut acc, loads);
-    band_faces::<LAW>(&c, faces, &band, &mut acc, loads);
+    band_faces::<LAW>(&c, faces, &band, &mut rs.patches, &mut acc, loads);
     rs.band = band;
     if !in_contact {
         return ForceSum::default();
@@ -466,14 +468,35 @@ fn clipped(faces: &FaceSoa, i: usize, d: [f64; 3]) -> (f64, DVec3) {
     }
 }
 
-/// The faces crossing the waterline, four at a time: clipped, then the lanes' law.
+/// The faces crossing the waterline: clipped, then their wetted patches through the wholly wet
+/// faces' lanes (padded with empty patches to whole chunks); with the planing centre, whose
+/// wetted length needs the crossings, four at a time in the portable lanes.
 fn band_faces<const LAW: u8>(
     c: &Ctx,
     faces: &FaceSoa,
     band: &[(u32, [f64; 3])],
+    patches: &mut FaceSoa,
     acc: &mut Acc,
     loads: &mut Vec<FaceLoad>,
 ) {
+    if band.is_empty() {
+        return;
+    }
+    if c.dir.is_none() {
+        let len = band.len().div_ceil(LANES) * LANES;
+        patches.reset_patches(len);
+        for (slot, &(i, d)) in band.iter().enumerate() {
+            let i = i as usize;
+            let (area, g) = clipped(faces, i, d);
+            for k in 0..3 {
+                patches.n[k][slot] = faces.n[k][i];
+                patches.g[k][slot] = g[k];
+            }
+            patches.area[slot] = area;
+        }
+        wet_faces::<LAW, true>(c, patches, 0..len, &[], acc, loads);
+        return;
+    }
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU supports AVX2 (checked just above).
