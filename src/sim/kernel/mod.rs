@@ -9,8 +9,10 @@
 //!   classified and clipped. A wavy surface bisects on its highest point and classifies the
 //!   candidates from the grid's heights (looked up once per vertex).
 //! - Free rotation: the water plane and the velocities are turned into the stone's own frame (no
-//!   vertex is rotated), and a hierarchy of bounding boxes (positions and normals, body frame)
-//!   culls the dry part and passes wholly wet boxes to the lanes unclassified.
+//!   vertex is rotated). A disk or a lens goes by its rings (`rings.rs`: each strip's wholly wet
+//!   faces are one column range found without visiting a face, only the waterline columns are
+//!   classified and clipped); a plate by a hierarchy of bounding boxes (positions and normals,
+//!   body frame) that culls the dry part and passes wholly wet boxes to the lanes unclassified.
 //! - [`lowest_clearance`] and [`underside_submerged`] search the same hierarchies, and return
 //!   exactly what the reference versions return (they evaluate the same floating-point
 //!   expressions for the candidates, and the bounds carry a margin far above rounding).
