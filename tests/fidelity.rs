@@ -147,3 +147,26 @@ fn reversed_spin_curves_the_other_way() {
     );
     assert!(a * b < 0.0, "y at touchdown 5: {a} and {b}");
 }
+
+/// On flat water nothing but the spin tells left from right: reversing the spin mirrors the path
+/// (the mesh is mirror-symmetric, only the order of the sums differs, so the early touchdowns agree
+/// to far better than the 1 % allowed; late ones may drift apart as rounding is amplified).
+#[test]
+fn on_flat_water_reversed_spin_mirrors_the_curve() {
+    let mut p = load("default");
+    p.water.enabled = false;
+    p.water.wavy_contact = false;
+    let lateral = |spin: f64| {
+        let mut q = p.clone();
+        q.launch.spin = spin;
+        let s = simulate(&q).unwrap();
+        s.contacts[2].y
+    };
+    let w = 150.0 * std::f64::consts::TAU;
+    let (a, b) = (lateral(w), lateral(-w));
+    assert!(a.abs() > 0.05, "a 150 rev/s stone curves: y = {a}");
+    assert!(
+        (a + b).abs() <= 0.01 * a.abs(),
+        "y at touchdown 3: {a} and {b}"
+    );
+}

@@ -83,17 +83,23 @@ impl Model {
             Color32::from_white_alpha(190),
         );
         let mut y = rect.top() + 42.0;
-        let lines = self
-            .notices
-            .iter()
-            .map(|(t, error)| {
+        // The side view's tick legend leads the stack, so no notice is drawn over it.
+        let legend = (self.view_mode == ViewMode::Side).then(|| {
+            (
+                "ticks: green a skip, red the contact that stayed in the water".to_owned(),
+                Color32::from_rgb(225, 232, 240),
+            )
+        });
+        let lines = legend
+            .into_iter()
+            .chain(self.notices.iter().map(|(t, error)| {
                 let c = if *error {
                     Color32::from_rgb(255, 120, 100)
                 } else {
                     Color32::from_rgb(150, 200, 255)
                 };
                 (t.clone(), c)
-            })
+            }))
             .chain(
                 self.warnings
                     .iter()
@@ -106,15 +112,22 @@ impl Model {
                 color,
                 (rect.width() - 28.0).max(100.0),
             );
-            let h = galley.size().y;
-            painter.galley(egui::pos2(rect.left() + 14.0, y), galley, Color32::WHITE);
-            y += h + 4.0;
+            let size = galley.size();
+            let at = egui::pos2(rect.left() + 14.0, y);
+            // A dark backing keeps light text readable over the bright sky and water.
+            painter.rect_filled(
+                egui::Rect::from_min_size(at, size).expand(3.0),
+                4.0,
+                Color32::from_black_alpha(120),
+            );
+            painter.galley(at, galley, Color32::WHITE);
+            y += size.y + 8.0;
         }
         self.status_ui(ui, actions);
     }
 
-    /// The side view's distance marks along the waterline (every 1, 2, 5 or 10 m from the launch)
-    /// and the legend of its ticks.
+    /// The side view's distance marks along the waterline (every 1, 2, 5 or 10 m from the launch);
+    /// the legend of its ticks leads the notices in [`Self::view_overlay_ui`].
     fn side_scale_ui(&self, painter: &egui::Painter) {
         let rect = self.view_rect;
         let f = self.framing();
@@ -153,13 +166,6 @@ impl Model {
                 color,
             );
         }
-        painter.text(
-            rect.right_top() + egui::vec2(-14.0, 36.0),
-            Align2::RIGHT_TOP,
-            "ticks: green a skip, red the contact that stayed in the water",
-            FontId::proportional(12.5),
-            Color32::from_rgb(40, 60, 90),
-        );
     }
 
     /// The status message: a toast at the bottom of the view with a close button.

@@ -17,7 +17,7 @@ use std::f64::consts::TAU;
 use glam::DVec3;
 
 use crate::sim::metrics::{hovercraft, throw_shape, ThrowShape};
-use crate::sim::params::{AxialSpin, ForceLaw, Preset, PressureSign, Rotation};
+use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
@@ -205,6 +205,8 @@ pub struct SpinRun {
     pub members: Vec<usize>,
     /// The stone's tilt (°) as it leaves its first contact; NaN without one.
     pub tilt_after_first: f64,
+    /// Duration of the first contact (s); NaN without one.
+    pub first_contact_s: f64,
     /// The stone's tilt (°) as it enters its last contact; NaN without one.
     pub tilt_at_last: f64,
 }
@@ -245,10 +247,49 @@ fn spin_sweep(quick: bool) -> Result<(ThrowShape, Vec<SpinRun>), StudyError> {
     let mut locked = p.clone();
     locked.physics.rotation = Rotation::Locked;
     let (_, locked) = shape(&locked)?;
-    let offsets = ensemble_offsets(quick);
-    let jobs: Vec<(f64, f64)> = spin_revs(quick)
+    let runs = spin_runs(&p, &spin_revs(quick), &ensemble_offsets(quick))?;
+    Ok((locked, runs))
+}
+
+/// Launch tilts (°) of the tilt check and their spins: does the fall at high spin depend on the
+/// launch tilt (a launch at the shallow tilt a held attitude does best with)?
+fn tilt_check(quick: bool) -> (Vec<f64>, Vec<f64>) {
+    if quick {
+        (vec![10.0], vec![10.0, 40.0, 150.0])
+    } else {
+        (
+            vec![10.0, 15.0],
+            vec![0.0, 5.0, 10.0, 20.0, 40.0, 80.0, 150.0],
+        )
+    }
+}
+
+/// The spin sweep again at other launch tilts (same ensemble), and the locked count at each.
+fn spin_tilts(quick: bool) -> Result<Vec<(f64, ThrowShape, Vec<SpinRun>)>, StudyError> {
+    let p = shipped_for("default", quick)?;
+    let (tilts, revs) = tilt_check(quick);
+    tilts
         .into_iter()
-        .flat_map(|rev| offsets.iter().map(move |&dz| (rev, dz)))
+        .map(|tilt| {
+            let mut q = p.clone();
+            q.launch.attitude.tilt_deg = tilt;
+            let mut locked = q.clone();
+            locked.physics.rotation = Rotation::Locked;
+            let (_, locked) = shape(&locked)?;
+            Ok((
+                tilt,
+                locked,
+                spin_runs(&q, &revs, &ensemble_offsets(quick))?,
+            ))
+        })
+        .collect()
+}
+
+/// `p` at each spin of `revs`, each from the launch heights `offsets` apart.
+fn spin_runs(p: &Preset, revs: &[f64], offsets: &[f64]) -> Result<Vec<SpinRun>, StudyError> {
+    let jobs: Vec<(f64, f64)> = revs
+        .iter()
+        .flat_map(|&rev| offsets.iter().map(move |&dz| (rev, dz)))
         .collect();
     let results = par_map(jobs, |(rev, dz)| {
         let mut q = p.clone();
@@ -257,12 +298,13 @@ fn spin_sweep(quick: bool) -> Result<(ThrowShape, Vec<SpinRun>), StudyError> {
         shape(&q).map(|(s, t)| {
             let first = s.contacts.first().map_or(f64::NAN, |c| c.attitude_out[0]);
             let last = s.contacts.last().map_or(f64::NAN, |c| c.attitude_in[0]);
-            (rev, dz, t, first, last)
+            let tau = s.contacts.first().map_or(f64::NAN, |c| c.t_end - c.t_start);
+            (rev, dz, t, first, last, tau)
         })
     })?;
-    let runs = spin_revs(quick)
-        .into_iter()
-        .filter_map(|rev| {
+    Ok(revs
+        .iter()
+        .filter_map(|&rev| {
             let of_rev: Vec<_> = results.iter().filter(|r| r.0 == rev).collect();
             let centre = of_rev.iter().find(|r| r.1 == 0.0)?;
             let mut members: Vec<usize> = of_rev.iter().map(|r| r.2.skips).collect();
@@ -272,11 +314,11 @@ fn spin_sweep(quick: bool) -> Result<(ThrowShape, Vec<SpinRun>), StudyError> {
                 shape: centre.2,
                 members,
                 tilt_after_first: centre.3,
+                first_contact_s: centre.5,
                 tilt_at_last: centre.4,
             })
         })
-        .collect();
-    Ok((locked, runs))
+        .collect())
 }
 
 /// The same throw with its attitude held (the infinite-spin limit) at several tilts: what a tilt
@@ -369,31 +411,64 @@ fn precession(quick: bool) -> Result<Vec<AxisTurn>, StudyError> {
     Ok(all.into_iter().flatten().collect())
 }
 
-/// Sideways position at each touchdown for one spin (and whether friction was on).
+/// Sideways position at each touchdown for one spin, on flat water or on the near field.
 #[derive(Debug, Clone)]
 pub struct CurveRun {
     pub rev_per_s: f64,
     pub friction: bool,
+    /// The shipped near field (wavy contact); false: flat water, the lake left out.
+    pub near_field: bool,
     /// (touchdown number, y in m).
     pub lateral: Vec<(f64, f64)>,
 }
 
+impl CurveRun {
+    /// y at touchdown `n` (1-based), if the run has it.
+    pub fn y_at(&self, n: usize) -> Option<f64> {
+        self.lateral.get(n.checked_sub(1)?).map(|p| p.1)
+    }
+}
+
+/// Spins of the flat-water curve (rev/s); each also without friction, the largest also reversed.
+fn curve_spins(quick: bool) -> Vec<f64> {
+    if quick {
+        vec![10.0, 40.0, 150.0]
+    } else {
+        vec![5.0, 10.0, 20.0, 40.0, 80.0, 150.0]
+    }
+}
+
+/// The default throw's path against spin. On flat water (no near field, so nothing but the spin
+/// breaks the left–right symmetry) each spin runs with and without friction — friction on the
+/// spinning wetted patch is the model's Magnus-like side force, the rest is the gyroscopic bank
+/// of the lift — and one spin reversed, which must mirror the path exactly. The shipped near
+/// field at ±20 rev/s shows what a user sees (its waves make one run's side chaotic, §3).
 fn curve(quick: bool) -> Result<Vec<CurveRun>, StudyError> {
     let p = shipped_for("default", quick)?;
-    let mut cases: Vec<(f64, bool)> = vec![(20.0, true), (-20.0, true), (20.0, false)];
-    if !quick {
-        cases.extend([(10.0, true), (-10.0, true), (40.0, true), (-40.0, true)]);
+    let spins = curve_spins(quick);
+    let mut cases: Vec<(f64, bool, bool)> = spins
+        .iter()
+        .flat_map(|&r| [(r, true, false), (r, false, false)])
+        .collect();
+    if let Some(&top) = spins.last() {
+        cases.push((-top, true, false));
     }
-    par_map(cases, |(rev, friction)| {
+    cases.extend([(20.0, true, true), (-20.0, true, true)]);
+    par_map(cases, |(rev, friction, near_field)| {
         let mut q = p.clone();
         q.launch.spin = rev * TAU;
         if !friction {
             q.physics.friction_coefficient = Some(0.0);
         }
+        if !near_field {
+            q.water.enabled = false;
+            q.water.wavy_contact = false;
+        }
         let (s, _) = shape(&q)?;
         Ok(CurveRun {
             rev_per_s: rev,
             friction,
+            near_field,
             lateral: s
                 .contacts
                 .iter()
@@ -513,8 +588,10 @@ fn anchors(quick: bool) -> Result<Vec<Anchor>, StudyError> {
         free.launch.spin = 65.0 * TAU;
         let mut buoyant = old.clone();
         buoyant.physics.buoyancy = true;
+        buoyant.physics.hydrostatic = Hydrostatic::WettedFaces;
         let mut new = free.clone();
         new.physics.buoyancy = true;
+        new.physics.hydrostatic = Hydrostatic::WettedFaces;
         new.physics.axial_spin = AxialSpin::Smooth;
         let u = |p: &Preset| scenario::min_speed(p, beta, 0.5, 12.0, 1e-3);
         Ok(Anchor {
@@ -567,6 +644,8 @@ pub struct Fidelity {
     pub paper: PaperEnergy,
     pub locked: ThrowShape,
     pub spin: Vec<SpinRun>,
+    /// (launch tilt °, its locked count, its spin sweep).
+    pub spin_tilts: Vec<(f64, ThrowShape, Vec<SpinRun>)>,
     pub locked_tilts: Vec<LockedTilt>,
     pub turns: Vec<AxisTurn>,
     pub curve: Vec<CurveRun>,
@@ -584,6 +663,8 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let paper = paper_energy()?;
     ctx.progress("spin sweep");
     let (locked, spin) = spin_sweep(q)?;
+    ctx.progress("spin sweep at other launch tilts");
+    let spin_tilts = spin_tilts(q)?;
     ctx.progress("locked tilts");
     let locked_tilts = locked_tilts(q)?;
     ctx.progress("precession per contact");
@@ -603,6 +684,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         paper,
         locked,
         spin,
+        spin_tilts,
         locked_tilts,
         turns,
         curve,
@@ -699,6 +781,29 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     }
     ctx.write_csv("spin_ensemble.csv", &c)?;
     let mut c = Csv::new(&[
+        "launch_tilt_deg",
+        "rev_per_s",
+        "skips",
+        "median",
+        "min",
+        "max",
+        "locked_skips",
+    ]);
+    for (tilt, locked, runs) in &f.spin_tilts {
+        for r in runs {
+            c.push(vec![
+                (*tilt).into(),
+                r.rev_per_s.into(),
+                r.shape.skips.into(),
+                r.median().into(),
+                r.members.first().copied().unwrap_or(0).into(),
+                r.members.last().copied().unwrap_or(0).into(),
+                locked.skips.into(),
+            ]);
+        }
+    }
+    ctx.write_csv("spin_tilts.csv", &c)?;
+    let mut c = Csv::new(&[
         "rev_per_s",
         "contact",
         "turn_deg",
@@ -715,12 +820,13 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         ]);
     }
     ctx.write_csv("precession_per_contact.csv", &c)?;
-    let mut c = Csv::new(&["rev_per_s", "friction", "touchdown", "y_m"]);
+    let mut c = Csv::new(&["rev_per_s", "friction", "near_field", "touchdown", "y_m"]);
     for r in &f.curve {
         for &(n, y) in &r.lateral {
             c.push(vec![
                 r.rev_per_s.into(),
                 r.friction.into(),
+                r.near_field.into(),
                 n.into(),
                 y.into(),
             ]);
@@ -812,31 +918,51 @@ fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         None,
         &[Panel::Chart(skips), Panel::Chart(share)],
     )?;
-    let mut curve = Chart::new(
-        "The curve: sideways position at each touchdown",
+    let flat: Vec<&CurveRun> = f.curve.iter().filter(|r| !r.near_field).collect();
+    let mut by_touchdown = Chart::new(
+        "The curve on flat water: sideways position at each touchdown",
         "touchdown",
         "y (m)",
     )
     .legend(Legend::UpperLeft);
-    for (k, r) in f.curve.iter().enumerate() {
-        let label = format!(
-            "{:+} rev/s{}",
-            r.rev_per_s,
-            if r.friction { "" } else { ", no friction" }
-        );
-        curve = curve.series(Series::new(
-            label,
-            r.lateral.clone(),
+    for (k, r) in flat.iter().filter(|r| r.friction).enumerate() {
+        by_touchdown = by_touchdown.series(Series::new(
+            format!("{:+} rev/s", r.rev_per_s),
+            r.lateral.iter().take(CURVE_TOUCHDOWNS).copied().collect(),
             colors::CYCLE[k % colors::CYCLE.len()],
             Mark::LinePoints,
         ));
     }
+    let at = |friction: bool| -> Vec<(f64, f64)> {
+        flat.iter()
+            .filter(|r| r.friction == friction && r.rev_per_s > 0.0)
+            .filter_map(|r| Some((r.rev_per_s, r.y_at(CURVE_AT)?)))
+            .collect()
+    };
+    let by_spin = Chart::new(
+        format!("Sideways position at touchdown {CURVE_AT} against spin (flat water)"),
+        "spin (rev/s)",
+        "y (m)",
+    )
+    .series(Series::new(
+        "friction on",
+        at(true),
+        colors::BLUE,
+        Mark::LinePoints,
+    ))
+    .series(Series::new(
+        "friction off (gyroscopic part)",
+        at(false),
+        colors::ORANGE,
+        Mark::Dashed,
+    ))
+    .legend(Legend::UpperLeft);
     plot::draw(
         &ctx.path("curve.png"),
-        (900, 560),
-        1,
+        (1400, 560),
+        2,
         None,
-        &[Panel::Chart(curve)],
+        &[Panel::Chart(by_touchdown), Panel::Chart(by_spin)],
     )
 }
 
@@ -950,6 +1076,22 @@ fn lead_table(f: &Fidelity) -> String {
             ),
         ]);
     }
+    let facts = curve_facts(f);
+    let sides: Vec<String> = facts
+        .by_spin
+        .iter()
+        .map(|b| format!("{} at {}", side(b.1), b.0))
+        .collect();
+    rows.push(vec![
+        "the path curves towards the spin, more with each bounce; reversed spin mirrors it (Tang 2021)"
+            .into(),
+        "locked attitude: no curve (the stone cannot bank)".into(),
+        format!(
+            "flat water, touchdown {CURVE_AT}: {} rev/s (+y: the leading edge's side); mirror to {}",
+            sides.join(", "),
+            sig(facts.mirror, 2)
+        ),
+    ]);
     rows.push(vec![
         "the paper's law gains no energy (paper.ron)".into(),
         format!(
@@ -989,7 +1131,7 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(
         "Before: the paper's high-spin limit as the presets used it (attitude locked, flat water, \
          no buoyancy). After: the shipped presets' model (free rigid body, smooth surface of \
-         revolution, buoyancy, wavy contact on 2 cm columns). Same throws.\n\n",
+         revolution, Archimedes on every wetted face, wavy contact on 2 cm columns). Same throws.\n\n",
     );
     if ctx.quick {
         s.push_str(&format!(
@@ -1130,6 +1272,7 @@ fn spin_mechanism(f: &Fidelity) -> String {
                  itself); above it the gyroscope keeps most of the launch tilt.",
             );
         }
+        s.push_str(&clanet_turn_words(f));
         let shallow = f.locked_tilts.first();
         let launch = f.locked_tilts.iter().find(|l| l.tilt_deg == 20.0);
         if let (Some(lo), Some(l20)) = (shallow, launch) {
@@ -1161,6 +1304,84 @@ fn spin_mechanism(f: &Fidelity) -> String {
              removes it, so the count at high spin is reported as a finding, not tuned.\n",
         );
     }
+    s.push_str(&tilt_check_section(f));
+    s
+}
+
+/// Clanet et al. (2004): the attitude holds through a contact when the stone turns at least once
+/// during it (ω τ ≥ 2π). The first contact's duration τ against the spins that hold the tilt.
+fn clanet_turn_words(f: &Fidelity) -> String {
+    let tau: Vec<f64> = f
+        .spin
+        .iter()
+        .map(|r| r.first_contact_s)
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .collect();
+    if tau.is_empty() {
+        return String::new();
+    }
+    let lo = tau.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = tau.iter().copied().fold(0.0, f64::max);
+    let held: Vec<String> = f
+        .spin
+        .iter()
+        .filter(|r| [10.0, 20.0, 40.0, 80.0, 150.0].contains(&r.rev_per_s))
+        .filter(|r| r.tilt_after_first.is_finite())
+        .map(|r| {
+            format!(
+                "{} turns per contact at {} rev/s → tilt {}°",
+                sig(r.rev_per_s * r.first_contact_s, 2),
+                sig(r.rev_per_s, 3),
+                sig(r.tilt_after_first, 2)
+            )
+        })
+        .collect();
+    format!(
+        " Clanet et al. (2004) found the attitude held through a contact when the stone turns at \
+         least once during it; the first contact here lasts {}–{} ms over the sweep, so one turn \
+         per contact needs {}–{} rev/s ({}; launched at 20°).",
+        sig(1e3 * lo, 2),
+        sig(1e3 * hi, 2),
+        sig(1.0 / hi, 2),
+        sig(1.0 / lo, 2),
+        held.join(", ")
+    )
+}
+
+/// The spin sweep at other launch tilts: median (range) per spin, against the locked count.
+fn tilt_check_section(f: &Fidelity) -> String {
+    let Some((_, _, first)) = f.spin_tilts.first() else {
+        return String::new();
+    };
+    let mut s = String::from(
+        "\nThe same sweep launched at other tilts (median and range over the same launch heights), \
+         against the attitude held at that tilt:\n\n",
+    );
+    let mut header = vec!["launch tilt (°)".to_owned(), "locked".to_owned()];
+    header.extend(
+        first
+            .iter()
+            .map(|r| format!("{} rev/s", sig(r.rev_per_s, 3))),
+    );
+    header.push("drops of the median".to_owned());
+    let rows: Vec<Vec<String>> = f
+        .spin_tilts
+        .iter()
+        .map(|(tilt, locked, runs)| {
+            let mut row = vec![sig(*tilt, 3), locked.skips.to_string()];
+            row.extend(runs.iter().map(|r| {
+                let (lo, hi) = (r.members.first(), r.members.last());
+                match (lo, hi) {
+                    (Some(lo), Some(hi)) if lo != hi => format!("{} ({lo}–{hi})", r.median()),
+                    _ => r.median().to_string(),
+                }
+            }));
+            row.push(spin_drops(runs).to_string());
+            row
+        })
+        .collect();
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    s.push_str(&md_table(&header, &rows));
     s
 }
 
@@ -1251,26 +1472,145 @@ fn spin_section(f: &Fidelity) -> String {
         ],
         &rows,
     ));
-    s.push_str("\n### The curve\n\n![curve](curve.png)\n\n");
+    s.push_str(&curve_section(f));
+    s
+}
+
+/// Touchdown at which the curve is compared across spins, and the most touchdowns charted.
+const CURVE_AT: usize = 3;
+const CURVE_TOUCHDOWNS: usize = 12;
+
+/// The flat-water curve: its side against spin, friction's share, the mirror check.
+pub struct CurveFacts {
+    /// (rev/s, y at CURVE_AT with friction, without friction).
+    pub by_spin: Vec<(f64, f64, f64)>,
+    /// Largest |y(+ω) + y(−ω)| over the reversed pair's common touchdowns, relative to the
+    /// largest |y| there.
+    pub mirror: f64,
+}
+
+pub fn curve_facts(f: &Fidelity) -> CurveFacts {
+    let flat = |rev: f64, friction: bool| {
+        f.curve
+            .iter()
+            .find(|r| !r.near_field && r.friction == friction && r.rev_per_s == rev)
+    };
+    let by_spin = f
+        .curve
+        .iter()
+        .filter(|r| !r.near_field && r.friction && r.rev_per_s > 0.0)
+        .filter_map(|r| {
+            let on = r.y_at(CURVE_AT)?;
+            let off = flat(r.rev_per_s, false)?.y_at(CURVE_AT)?;
+            Some((r.rev_per_s, on, off))
+        })
+        .collect();
+    let mirror = f
+        .curve
+        .iter()
+        .find(|r| !r.near_field && r.rev_per_s < 0.0)
+        .and_then(|m| Some((m, flat(-m.rev_per_s, true)?)))
+        .map_or(f64::NAN, |(m, p)| {
+            let n = p.lateral.len().min(m.lateral.len());
+            let scale = p.lateral[..n].iter().fold(0.0f64, |a, q| a.max(q.1.abs()));
+            let worst = p
+                .lateral
+                .iter()
+                .zip(&m.lateral)
+                .fold(0.0f64, |a, (q, r)| a.max((q.1 + r.1).abs()));
+            if scale > 0.0 {
+                worst / scale
+            } else {
+                f64::NAN
+            }
+        });
+    CurveFacts { by_spin, mirror }
+}
+
+fn side(y: f64) -> &'static str {
+    if y > 0.0 {
+        "+y"
+    } else {
+        "−y"
+    }
+}
+
+fn curve_section(f: &Fidelity) -> String {
+    let mut s = String::from("\n### The curve\n\n![curve](curve.png)\n\n");
+    s.push_str(&format!(
+        "The default throw on flat water (no near field: nothing but the spin breaks the left–right \
+         symmetry), spin > 0 counter-clockwise seen from above, so the leading edge moves towards \
+         +y. Friction on the spinning wetted patch is the model's Magnus-like side force (the patch \
+         slides sideways at ωR against the water); what is left without it is the gyroscopic part: \
+         the lift's torque about the centre of mass turns the spinning axis sideways (a bank), and \
+         the banked lift pushes sideways. Friction's share is 1 − y(off)/y(on) at touchdown {CURVE_AT}.\n\n"
+    ));
+    let facts = curve_facts(f);
     let rows: Vec<Vec<String>> = f
         .curve
         .iter()
+        .filter(|r| !r.near_field && r.friction)
         .map(|r| {
-            let last = r.lateral.last().map_or(0.0, |p| p.1);
-            let fifth = r.lateral.get(4).map_or(f64::NAN, |p| p.1);
+            let off = facts.by_spin.iter().find(|b| b.0 == r.rev_per_s);
             vec![
                 format!("{:+}", r.rev_per_s),
-                if r.friction { "on" } else { "off" }.into(),
-                sig(fifth, 3),
-                sig(last, 3),
+                sig(r.y_at(CURVE_AT).unwrap_or(f64::NAN), 3),
+                sig(r.lateral.last().map_or(f64::NAN, |p| p.1), 3),
                 r.lateral.len().to_string(),
+                off.map_or("n/a".into(), |b| sig(b.2, 3)),
+                off.map_or("n/a".into(), |b| {
+                    format!("{:.0} %", 100.0 * (1.0 - b.2 / b.1))
+                }),
             ]
         })
         .collect();
     s.push_str(&md_table(
         &[
             "spin (rev/s)",
-            "friction",
+            &format!("y at touchdown {CURVE_AT} (m)"),
+            "y at the last (m)",
+            "touchdowns",
+            &format!("no friction: y at {CURVE_AT} (m)"),
+            "friction's share",
+        ],
+        &rows,
+    ));
+    s.push_str(&format!(
+        "\nReversing the spin mirrors the path: over their common touchdowns |y(+ω) + y(−ω)| is at \
+         most {} of the largest |y| (the mesh is mirror-symmetric; only the order of the sums \
+         differs, and a run's late contacts amplify rounding, so the two may end a touchdown \
+         apart). ",
+        sig(facts.mirror, 2)
+    ));
+    let sides: Vec<String> = facts
+        .by_spin
+        .iter()
+        .map(|b| format!("{} at {} rev/s", side(b.1), b.0))
+        .collect();
+    s.push_str(&format!(
+        "Side at touchdown {CURVE_AT}: {}. Tang et al. (2021) report a path curving towards the \
+         spin, more with each bounce, with the Magnus effect dominating below ~18 rev/s; compare \
+         the sides and friction's share above (the model has no air-side Magnus force: its side \
+         force is water friction on the spinning patch).\n\n",
+        sides.join(", ")
+    ));
+    let rows: Vec<Vec<String>> = f
+        .curve
+        .iter()
+        .filter(|r| r.near_field)
+        .map(|r| {
+            vec![
+                format!("{:+}", r.rev_per_s),
+                sig(r.y_at(5).unwrap_or(f64::NAN), 3),
+                sig(r.lateral.last().map_or(f64::NAN, |p| p.1), 3),
+                r.lateral.len().to_string(),
+            ]
+        })
+        .collect();
+    s.push_str("On the shipped near field (wavy contact):\n\n");
+    s.push_str(&md_table(
+        &[
+            "spin (rev/s)",
             "y at touchdown 5 (m)",
             "y at the last (m)",
             "touchdowns",
@@ -1426,6 +1766,7 @@ mod tests {
             },
             members: vec![skips],
             tilt_after_first: f64::NAN,
+            first_contact_s: f64::NAN,
             tilt_at_last: f64::NAN,
         };
         assert_eq!(

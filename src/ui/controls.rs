@@ -122,7 +122,8 @@ pub fn notices(c: &SimControls) -> Vec<(String, bool)> {
     if let Some(r) = c.behind {
         out.push((
             format!(
-                "{} ({:.2} s of simulated time skipped; results are unchanged)",
+                "{} (the playback is {:.1} s behind the clock; every step is still computed, so \
+                 results are unchanged)",
                 behind_words(r, c.speed),
                 c.dropped_total
             ),
@@ -131,7 +132,8 @@ pub fn notices(c: &SimControls) -> Vec<(String, bool)> {
     } else if c.dropping_now {
         out.push((
             format!(
-                "running behind: {:.2} s of simulated time skipped (results are unchanged)",
+                "running behind: the playback is {:.1} s behind the clock (every step is still \
+                 computed, so results are unchanged)",
                 c.dropped_total
             ),
             false,

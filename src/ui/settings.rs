@@ -5,9 +5,9 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    AxialSpin, ForceLaw, Integrator, Launch, Limiter, Physics, Precision, PressureCentre,
-    PressureSign, Rotation, Shape, StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS,
-    SAVITSKY_CENTRE,
+    AxialSpin, ForceLaw, Hydrostatic, Integrator, Launch, Limiter, Physics, Precision,
+    PressureCentre, PressureSign, Rotation, Shape, StoneParams, Swell, WaterParams,
+    MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
 };
 
 use super::ViewSettings;
@@ -889,7 +889,7 @@ fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool
             marks,
             &["pressure sign"],
             "Receding faces",
-            "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed                  along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its                  own normal velocity (never gains energy).",
+            "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its own normal velocity (never gains energy).",
         );
         let before = physics.pressure_sign;
         ui.horizontal(|ui| {
@@ -912,10 +912,37 @@ fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool
         marks,
         &["buoyancy"],
         "Buoyancy",
-        "Hydrostatic pressure ρ g d on each loaded face (Archimedes): matters once the stone is deep",
+        "Hydrostatic pressure ρ g d on the wetted faces (Archimedes): matters once the stone is deep",
     );
     c |= ui.checkbox(&mut physics.buoyancy, "").changed();
     ui.end_row();
+    if physics.buoyancy {
+        label_ui(
+            ui,
+            marks,
+            &["hydrostatic"],
+            "Hydrostatic on",
+            "Wetted faces: every wetted face carries ρ g d, so a submerged stone feels Archimedes' \
+             ρ g V (ventilation removes only the dynamic pressure and friction). Loaded faces: only \
+             the faces carrying the dynamic pressure, as before issue 11's fix (a ventilated, \
+             submerged stone then switches its buoyancy on and off: docs/reliability.md, A1).",
+        );
+        let before = physics.hydrostatic;
+        ui.horizontal(|ui| {
+            ui.radio_value(
+                &mut physics.hydrostatic,
+                Hydrostatic::WettedFaces,
+                "Wetted faces",
+            );
+            ui.radio_value(
+                &mut physics.hydrostatic,
+                Hydrostatic::LoadedFaces,
+                "Loaded faces",
+            );
+        });
+        ui.end_row();
+        c |= before != physics.hydrostatic;
+    }
     c
 }
 
@@ -1089,7 +1116,11 @@ mod tests {
         ph.lift_coefficient = Some(1.0);
         ph.friction_coefficient = Some(0.5);
         ph.pressure_sign = PressureSign::OpposesMotion;
-        ph.buoyancy = !ph.buoyancy;
+        ph.buoyancy = true;
+        ph.hydrostatic = match ph.hydrostatic {
+            Hydrostatic::WettedFaces => Hydrostatic::LoadedFaces,
+            Hydrostatic::LoadedFaces => Hydrostatic::WettedFaces,
+        };
         ph.tolerance *= 10.0;
         ph.pressure_centre = PressureCentre::Planing(0.5);
         ph.axial_spin = match ph.axial_spin {
@@ -1120,7 +1151,7 @@ mod tests {
             section_differences(&p.water, &w),
         ];
         let counts: Vec<usize> = d.iter().map(Vec::len).collect();
-        assert_eq!(counts, [13, 4, 12, 13], "{d:?}");
+        assert_eq!(counts, [13, 4, 13, 13], "{d:?}");
         let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
         draw(|ui| {
             launch_ui(ui, &mut l, &m[0]);
