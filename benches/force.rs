@@ -1,7 +1,7 @@
 //! One force evaluation (issue 12): the fast kernel (`hydro::evaluate`) against the scalar
-//! reference (`hydro::evaluate_reference`) on the default lens at 32 and 96 segments, in four
+//! reference (`hydro::evaluate_reference`) on the default lens at 32, 64 and 96 segments, in four
 //! poses — grazing (lowest vertex 1 % of the vertical extent under), mid-contact (10 %), deep
-//! (wholly under) and free rotation (mid-contact, ω ≠ 0, so the body-frame hierarchy path) — plus
+//! (wholly under) and free rotation (mid-contact, ω ≠ 0, so the body-frame ring path) — plus
 //! `lowest_clearance` and `underside_submerged` against their references. Criterion measures each
 //! side by side; a summary then prints, from its own timings (median of repeats), the ratios.
 //!
@@ -9,9 +9,9 @@
 //! Instruction counts (noise-free): `FORCE_COUNT=pose,segments,path,reps` runs only that many
 //! evaluations (path: fast, reference, clear, clear_ref, sink, sink_ref) and exits; run it under
 //! `valgrind --tool=callgrind` with reps 0 and N and divide the difference by N.
-//! Whole throws: `FORCE_THROW=preset.ron,segments,reps` runs the preset with the water off at that
-//! mesh and prints the real-time factor (simulated / wall seconds, best of the repeats) and the
-//! result; `FORCE_MESH=1` prints, for the default throw and the accuracy study's three throws, the
+//! Whole throws: `FORCE_THROW=preset.ron,segments,reps[,tolerance[,locked]]` runs the preset with
+//! the water off at that mesh (optionally at another tolerance, or with the attitude locked) and
+//! prints the real-time factor (simulated / wall seconds, best of the repeats) and the result; `FORCE_MESH=1` prints, for the default throw and the accuracy study's three throws, the
 //! distance and skips per mesh and tolerance against a 192-segment, tolerance-1e-8 run.
 
 use std::hint::black_box;
@@ -146,13 +146,22 @@ fn describe(s: &Summary) -> String {
 
 fn throw_mode(spec: &str) {
     let parts: Vec<&str> = spec.split(',').collect();
-    let [path, segments, reps] = parts[..] else {
-        eprintln!("FORCE_THROW=preset.ron,segments,reps");
-        std::process::exit(2);
+    let (path, segments, reps) = match parts[..] {
+        [path, segments, reps, ..] => (path, segments, reps),
+        _ => {
+            eprintln!("FORCE_THROW=preset.ron,segments,reps[,tolerance[,locked]]");
+            std::process::exit(2);
+        }
     };
     let mut p = stoneskip::preset::load(std::path::Path::new(path)).expect("preset");
     p.water.enabled = false;
     p.stone.segments = segments.parse().expect("segments");
+    if let Some(tolerance) = parts.get(3) {
+        p.physics.tolerance = tolerance.parse().expect("tolerance");
+    }
+    if parts.get(4) == Some(&"locked") {
+        p.physics.rotation = stoneskip::sim::params::Rotation::Locked;
+    }
     let (wall, s) = time_throw(&p, reps.parse().expect("reps"));
     println!(
         "{path} at {segments} segments, water off: {:.2} ms, {:.0}x real time; {}",
@@ -227,7 +236,7 @@ fn main() {
     }
     let hp = HydroParams::from_physics(&Physics::default());
     let mut c = Criterion::default().configure_from_args();
-    let cases: Vec<(u32, Stone)> = [32, 96].map(|n| (n, lens(n))).into();
+    let cases: Vec<(u32, Stone)> = [32, 64, 96].map(|n| (n, lens(n))).into();
     for (n, stone) in &cases {
         let mut group = c.benchmark_group(format!("force/{n}"));
         for name in POSES {

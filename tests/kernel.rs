@@ -1,8 +1,9 @@
 //! Oracle tests of the fast force kernel (issue 12): on many random poses — grazing, mid-contact,
 //! deep, free rotation — every fast path agrees with the scalar reference (`evaluate_reference`,
 //! `lowest_clearance_reference`, `underside_submerged_reference`) for the three force laws,
-//! ventilated or not, both pressure centres, locked and free rotation, flat and wavy water, for a
-//! disc, a lens and a plate at 32 and 96 segments.
+//! ventilated or not, both pressure centres, the issue-11 options (buoyancy on the loaded or on
+//! every wetted face), locked and free rotation, flat and wavy water, for a disc, a lens and a
+//! plate at 32, 64 and 96 segments.
 //!
 //! Tolerance: 1e-12 relative. The two differ only in the order of the sums and in where the face
 //! points are formed (the reference adds the centre of mass first, the kernel works in offsets), so
@@ -78,7 +79,7 @@ impl Surface for Swell {
 
 fn stones() -> Vec<(String, Stone)> {
     let mut out = Vec::new();
-    for segments in [32, 96] {
+    for segments in [32, 64, 96] {
         for shape in [
             Shape::Disk {
                 radius: 0.05,
@@ -107,12 +108,20 @@ fn stones() -> Vec<(String, Stone)> {
 }
 
 /// The options of issue 11 on top: none, the pressure opposing the motion with buoyancy, smooth
-/// axial spin, and all three.
-const EXTRAS: [&str; 4] = ["paper", "opposing+buoyancy", "smooth", "all"];
+/// axial spin, all three, and smooth spin with buoyancy on every wetted face
+/// (`hydrostatic: WettedFaces`).
+const EXTRAS: [&str; 5] = [
+    "paper",
+    "opposing+buoyancy",
+    "smooth",
+    "all",
+    "smooth+wetted",
+];
 
 fn params(law: ForceLaw, ventilated: bool, planing: bool, extras: &str) -> HydroParams {
     let (lift, friction) = law.default_coefficients();
     let all = extras == "all";
+    let wetted = extras == "smooth+wetted";
     HydroParams {
         law,
         lift,
@@ -121,13 +130,13 @@ fn params(law: ForceLaw, ventilated: bool, planing: bool, extras: &str) -> Hydro
         ventilated,
         pressure_centre: planing.then_some(0.75),
         opposing: all || extras == "opposing+buoyancy",
-        smooth_spin: all || extras == "smooth",
-        rho_g: if all || extras == "opposing+buoyancy" {
+        smooth_spin: all || wetted || extras == "smooth",
+        rho_g: if all || wetted || extras == "opposing+buoyancy" {
             9810.0
         } else {
             0.0
         },
-        hydrostatic_wetted: false,
+        hydrostatic_wetted: wetted,
     }
 }
 
@@ -336,9 +345,10 @@ fn oracle(surface_name: &str, surface: &dyn Surface, poses: usize, seed: u64) {
             }
         }
     }
-    // The poses must exercise what they claim: contact nearly always, some sinking (deep poses).
+    // The poses must exercise what they claim: contact nearly always (a 3 mm swell lifts the
+    // water off some grazing poses), some sinking (deep poses).
     assert!(
-        contacts * 10 >= evaluations * 9,
+        contacts * 20 >= evaluations * 17,
         "{contacts} of {evaluations} in contact"
     );
     assert!(submerged > 0, "no deep pose had its underside submerged");

@@ -111,6 +111,69 @@ pub fn build_mesh(shape: &Shape, segments: u32) -> Mesh {
     }
 }
 
+/// How a mesh of revolution from [`build_mesh`] is laid out (the force kernel's ring path; the
+/// kernel checks it against the mesh before using it): rings of vertices at azimuths 2πj/n, and
+/// strips of faces between two rings, column by column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RevolutionLayout {
+    /// Vertices per ring (n).
+    pub segments: usize,
+    /// Each ring's vertex indices in azimuth order (n of them), or one vertex (a pole).
+    pub rings: Vec<Vec<u32>>,
+    /// Each strip's two rings and, for each column j (between azimuths j and j + 1), the
+    /// triangles whose corners are among those rings' vertices j and j + 1.
+    pub strips: Vec<([usize; 2], Vec<Vec<u32>>)>,
+}
+
+/// The layout of [`build_mesh`]'s mesh for a disk or a lens; `None` for a plate.
+pub fn revolution_layout(shape: &Shape, segments: u32) -> Option<RevolutionLayout> {
+    let n = segments.max(3) as usize;
+    let column = |f: &dyn Fn(usize) -> Vec<u32>| (0..n).map(f).collect::<Vec<_>>();
+    match *shape {
+        Shape::Disk { .. } => {
+            // Vertices: 0 top centre, 1 bottom centre, 2 + 2i top rim, 3 + 2i bottom rim; faces
+            // 4i top, 4i + 1 bottom, 4i + 2 and 4i + 3 the side.
+            let rim = |k: u32| (0..n as u32).map(|i| k + 2 * i).collect();
+            Some(RevolutionLayout {
+                segments: n,
+                rings: vec![vec![0], rim(2), rim(3), vec![1]],
+                strips: vec![
+                    ([0, 1], column(&|i| vec![4 * i as u32])),
+                    (
+                        [1, 2],
+                        column(&|i| vec![4 * i as u32 + 2, 4 * i as u32 + 3]),
+                    ),
+                    ([2, 3], column(&|i| vec![4 * i as u32 + 1])),
+                ],
+            })
+        }
+        Shape::Lens { .. } => {
+            let bands = (n / 2).max(4);
+            let mut rings = vec![vec![0]];
+            for k in 1..bands {
+                rings.push((0..n).map(|i| (1 + (k - 1) * n + i) as u32).collect());
+            }
+            rings.push(vec![(1 + n * (bands - 1)) as u32]);
+            let mut strips = vec![([0, 1], column(&|i| vec![i as u32]))];
+            for k in 1..bands - 1 {
+                let start = n + (k - 1) * 2 * n;
+                strips.push((
+                    [k, k + 1],
+                    column(&|i| vec![(start + 2 * i) as u32, (start + 2 * i + 1) as u32]),
+                ));
+            }
+            let start = n + (bands - 2) * 2 * n;
+            strips.push(([bands - 1, bands], column(&|i| vec![(start + i) as u32])));
+            Some(RevolutionLayout {
+                segments: n,
+                rings,
+                strips,
+            })
+        }
+        Shape::Plate { .. } => None,
+    }
+}
+
 fn ring_point(radius: f64, angle: f64, z: f64) -> DVec3 {
     DVec3::new(radius * angle.cos(), radius * angle.sin(), z)
 }
@@ -258,7 +321,8 @@ impl Stone {
         let (normals, areas): (Vec<DVec3>, Vec<f64>) = (0..mesh.triangles.len())
             .map(|i| mesh.normal_area(i))
             .unzip();
-        let kernel = KernelMesh::new(&mesh, &normals, &areas);
+        let layout = revolution_layout(&params.shape, params.segments);
+        let kernel = KernelMesh::new(&mesh, &normals, &areas, layout.as_ref());
         Ok(Self {
             kernel,
             shape: params.shape,

@@ -9,8 +9,10 @@
 //!   classified and clipped. A wavy surface bisects on its highest point and classifies the
 //!   candidates from the grid's heights (looked up once per vertex).
 //! - Free rotation: the water plane and the velocities are turned into the stone's own frame (no
-//!   vertex is rotated), and a hierarchy of bounding boxes (positions and normals, body frame)
-//!   culls the dry part and passes wholly wet boxes to the lanes unclassified.
+//!   vertex is rotated). A disk or a lens goes by its rings (`rings.rs`: each strip's wholly wet
+//!   faces are one column range found without visiting a face, only the waterline columns are
+//!   classified and clipped); a plate by a hierarchy of bounding boxes (positions and normals,
+//!   body frame) that culls the dry part and passes wholly wet boxes to the lanes unclassified.
 //! - [`lowest_clearance`] and [`underside_submerged`] search the same hierarchies, and return
 //!   exactly what the reference versions return (they evaluate the same floating-point
 //!   expressions for the candidates, and the bounds carry a margin far above rounding).
@@ -29,7 +31,9 @@ use glam::{DMat3, DQuat, DVec3};
 use super::contact::clip_triangle;
 use super::hydro::{FaceLoad, ForceSum, HydroParams, Pose, Surface};
 use super::params::{ForceLaw, Shape};
-use super::stone::{Mesh, Stone};
+use super::stone::{Mesh, RevolutionLayout, Stone};
+
+mod rings;
 
 /// Width of the vector lanes (f64).
 pub const LANES: usize = 4;
@@ -45,7 +49,7 @@ const NO_CHILD: u32 = u32::MAX;
 pub fn fast_path_supports(hp: &HydroParams) -> bool {
     // The kernel takes these as they are: the lanes' law mirrors `face_force` for every law
     // (tested bit for bit), ventilation either way, either pressure centre and sign, smooth or
-    // faceted spin, with or without buoyancy.
+    // faceted spin, with or without buoyancy, on the loaded or on every wetted face.
     let HydroParams {
         law,
         lift: _,
@@ -55,13 +59,9 @@ pub fn fast_path_supports(hp: &HydroParams) -> bool {
         pressure_centre: _,
         opposing: _,
         smooth_spin: _,
-        rho_g,
-        hydrostatic_wetted,
+        rho_g: _,
+        hydrostatic_wetted: _,
     } = *hp;
-    // Hydrostatic load on receding ventilated faces: the reference alone (the lanes cull them).
-    if hydrostatic_wetted && rho_g != 0.0 && hp.ventilated {
-        return false;
-    }
     match law {
         ForceLaw::Paper | ForceLaw::Bocquet | ForceLaw::Rosellini => true,
     }
@@ -217,6 +217,17 @@ impl FaceSoa {
         self.verts.push(verts);
     }
 
+    /// Normals, centroids and areas only (the wetted patches of clipped faces), `len` of them, every
+    /// one zero (an empty patch) until set.
+    fn reset_patches(&mut self, len: usize) {
+        for col in self.n.iter_mut().chain(&mut self.g) {
+            col.clear();
+            col.resize(len, 0.0);
+        }
+        self.area.clear();
+        self.area.resize(len, 0.0);
+    }
+
     fn corner(&self, k: usize, i: usize) -> DVec3 {
         DVec3::new(self.pos[k][0][i], self.pos[k][1][i], self.pos[k][2][i])
     }
@@ -239,14 +250,22 @@ pub struct KernelMesh {
     vertex_count: usize,
     /// Margin on the boxes' bounds of u·p, far above the rounding of u·p (m).
     slack: f64,
+    /// A body of revolution's rings and strips (the free-rotation path without boxes).
+    revolution: Option<rings::Revolution>,
 }
 
 /// Margin on the bounds of u·n (unit normals).
 const NORMAL_SLACK: f64 = 1e-12;
 
 impl KernelMesh {
-    /// From the centred mesh and its body-frame normals and areas.
-    pub fn new(mesh: &Mesh, normals: &[DVec3], areas: &[f64]) -> Self {
+    /// From the centred mesh, its body-frame normals and areas, and its layout when it is a
+    /// body of revolution (checked against the mesh; unused when it does not fit).
+    pub fn new(
+        mesh: &Mesh,
+        normals: &[DVec3],
+        areas: &[f64],
+        layout: Option<&RevolutionLayout>,
+    ) -> Self {
         let reach = mesh
             .positions
             .iter()
@@ -300,6 +319,7 @@ impl KernelMesh {
             vertex_nodes,
             vertex_count: mesh.positions.len(),
             slack: 1e-12 * reach.max(f64::MIN_POSITIVE),
+            revolution: layout.and_then(|l| rings::Revolution::new(mesh, normals, areas, l, reach)),
         }
     }
 }
@@ -486,6 +506,7 @@ pub struct KernelScratch {
     sorted: Option<Sorted>,
     heights: VertexHeights,
     wet: Vec<u32>,
+    rings: rings::RingScratch,
 }
 
 /// Faces in world axes (offsets from the centre of mass) for one orientation, in groups of
@@ -629,6 +650,8 @@ struct Ctx<'a> {
     ventilated: bool,
     opposing: bool,
     rho_g: f64,
+    /// Receding ventilated faces keep their hydrostatic load (`hydrostatic: WettedFaces`).
+    wetted: bool,
     /// Centre-of-mass velocity and angular velocity (frame), speed U.
     v: DVec3,
     w: DVec3,
@@ -682,6 +705,7 @@ impl<'a> Ctx<'a> {
             ventilated: hp.ventilated,
             opposing: hp.opposing,
             rho_g: hp.rho_g,
+            wetted: hp.hydrostatic_wetted && hp.rho_g != 0.0,
             v: to_frame(pose.velocity),
             w: to_frame(pose.angular_velocity),
             speed: pose.velocity.length(),
@@ -707,10 +731,11 @@ impl<'a> Ctx<'a> {
         self.dir.is_none() && !(self.rho_g != 0.0 && self.wavy.is_some())
     }
 
-    /// The angular velocity the pressure sees is zero: a ventilated face receding from the water
-    /// (V·N ≤ 0) carries nothing, known before it is clipped.
-    fn pressure_sees_no_rotation(&self) -> bool {
-        self.normal_w.unwrap_or(self.w) == DVec3::ZERO
+    /// A ventilated face receding from the water (V·N ≤ 0) carries nothing, known before it is
+    /// clipped: the angular velocity the pressure sees is zero, and receding faces carry no
+    /// hydrostatic load.
+    fn culls_receding(&self) -> bool {
+        self.ventilated && !self.wetted && self.normal_w.unwrap_or(self.w) == DVec3::ZERO
     }
 
     /// Depth below the surface of the point at frame offset `r` from the centre of mass.
@@ -810,11 +835,18 @@ fn lane_law<const N: usize, const LAW: u8>(
             fy -= ty * q;
             fz -= tz * q;
         }
-        let zero = c.ventilated && vn <= 0.0;
-        f[0][l] = if zero { 0.0 } else { fx };
-        f[1][l] = if zero { 0.0 } else { fy };
-        f[2][l] = if zero { 0.0 } else { fz };
-        nonzero[l] = !zero && (fx != 0.0 || fy != 0.0 || fz != 0.0);
+        // Receding and ventilated: nothing, or (`WettedFaces`) the hydrostatic load alone.
+        if c.ventilated && vn <= 0.0 {
+            if c.wetted {
+                (fx, fy, fz) = (-nx * hydrostatic, -ny * hydrostatic, -nz * hydrostatic);
+            } else {
+                (fx, fy, fz) = (0.0, 0.0, 0.0);
+            }
+        }
+        f[0][l] = fx;
+        f[1][l] = fy;
+        f[2][l] = fz;
+        nonzero[l] = fx != 0.0 || fy != 0.0 || fz != 0.0;
     }
     (f, nonzero)
 }
@@ -869,6 +901,8 @@ struct Acc {
     listed: LaneAcc<LANES>,
     single: LaneAcc<1>,
     band: LaneAcc<1>,
+    /// The clipped faces of the ring path, four at a time.
+    band4: LaneAcc<LANES>,
 }
 
 impl Default for Acc {
@@ -887,6 +921,7 @@ impl Default for Acc {
             listed: LaneAcc::default(),
             single: LaneAcc::default(),
             band: LaneAcc::default(),
+            band4: LaneAcc::default(),
         }
     }
 }
@@ -1342,7 +1377,7 @@ mod simd {
                 vt_len,
             );
             let zc = |g: [__m256d; 3]| _mm256_add_pd(pos_z, dot_up(g[0], g[1], g[2]));
-            let p = normal_load::<EXTRA>(c, pressure, vn, area, || zc([gx, gy, gz]));
+            let (p, hydrostatic) = normal_load::<EXTRA>(c, pressure, vn, area, || zc([gx, gy, gz]));
             let neg = |x: __m256d| _mm256_xor_pd(x, sign_bit);
             let mut fx = _mm256_mul_pd(neg(nx), p);
             let mut fy = _mm256_mul_pd(neg(ny), p);
@@ -1353,6 +1388,10 @@ mod simd {
             fy = _mm256_blendv_pd(fy, _mm256_sub_pd(fy, _mm256_mul_pd(ty, q)), tangential);
             fz = _mm256_blendv_pd(fz, _mm256_sub_pd(fz, _mm256_mul_pd(tz, q)), tangential);
             let receding = _mm256_and_pd(vent, _mm256_cmp_pd::<_CMP_LE_OQ>(vn, zero));
+            let wetted = EXTRA && c.wetted;
+            if wetted {
+                [fx, fy, fz] = hydrostatic_when([fx, fy, fz], [nx, ny, nz], hydrostatic, receding);
+            }
             let any = _mm256_or_pd(
                 _mm256_or_pd(
                     _mm256_cmp_pd::<_CMP_NEQ_UQ>(fx, zero),
@@ -1360,10 +1399,12 @@ mod simd {
                 ),
                 _mm256_cmp_pd::<_CMP_NEQ_UQ>(fz, zero),
             );
-            let loaded = _mm256_and_pd(
-                _mm256_andnot_pd(receding, any),
-                _mm256_cmp_pd::<_CMP_GT_OQ>(area, zero),
-            );
+            let carried = if wetted {
+                any
+            } else {
+                _mm256_andnot_pd(receding, any)
+            };
+            let loaded = _mm256_and_pd(carried, _mm256_cmp_pd::<_CMP_GT_OQ>(area, zero));
             let keep = |x: __m256d| _mm256_and_pd(x, loaded);
             af[0] = _mm256_add_pd(af[0], keep(fx));
             af[1] = _mm256_add_pd(af[1], keep(fy));
@@ -1396,6 +1437,19 @@ mod simd {
         wr(&mut la.area, aa);
         wr(&mut la.axial, ax);
     }
+    /// `WettedFaces`: where `receding`, a face keeps its hydrostatic load −N h alone.
+    #[target_feature(enable = "avx2")]
+    fn hydrostatic_when(
+        f: [__m256d; 3],
+        n: [__m256d; 3],
+        h: __m256d,
+        receding: __m256d,
+    ) -> [__m256d; 3] {
+        let sign_bit = _mm256_set1_pd(-0.0);
+        let load = |n: __m256d| _mm256_mul_pd(_mm256_xor_pd(n, sign_bit), h);
+        [0, 1, 2].map(|k| _mm256_blendv_pd(f[k], load(n[k]), receding))
+    }
+
     /// The faces' velocities v = V + ω × g (or V), v·N, and the normal velocity the pressure sees
     /// (from ω_⊥ on the smooth body, `wn`), for four faces with normals `n` and centroids `g`.
     #[target_feature(enable = "avx2")]
@@ -1447,8 +1501,9 @@ mod simd {
         (v, vdn, vn)
     }
 
-    /// sign · pressure + hydrostatic for four faces: the sign of v_n when the pressure opposes the
-    /// motion, else +1; ρ g max(0, depth) S with buoyancy (`zc`: the wetted centroids' heights).
+    /// sign · pressure + hydrostatic, and hydrostatic, for four faces: the sign of v_n when the
+    /// pressure opposes the motion, else +1; ρ g max(0, depth) S with buoyancy (`zc`: the wetted
+    /// centroids' heights).
     #[target_feature(enable = "avx2")]
     fn normal_load<const EXTRA: bool>(
         c: &Ctx,
@@ -1456,7 +1511,7 @@ mod simd {
         vn: __m256d,
         area: __m256d,
         zc: impl Fn() -> __m256d,
-    ) -> __m256d {
+    ) -> (__m256d, __m256d) {
         let zero = _mm256_setzero_pd();
         let set = |x: f64| _mm256_set1_pd(x);
         let signed = if EXTRA && c.opposing {
@@ -1476,7 +1531,7 @@ mod simd {
         } else {
             zero
         };
-        _mm256_add_pd(signed, hydrostatic)
+        (_mm256_add_pd(signed, hydrostatic), hydrostatic)
     }
 
     /// Pressure and friction magnitudes of the law for four faces (`k`: C_l, C_l ρ, C_f, U).
@@ -1580,7 +1635,7 @@ fn band_face<const LAW: u8, const ROT: bool>(
     loads: &mut Vec<FaceLoad>,
 ) {
     let normal = faces.normal(i);
-    if c.ventilated && c.pressure_sees_no_rotation() && normal.dot(c.v) <= 0.0 {
+    if c.culls_receding() && normal.dot(c.v) <= 0.0 {
         return; // receding without rotation: carries nothing
     }
     let p = [faces.corner(0, i), faces.corner(1, i), faces.corner(2, i)];
@@ -1692,11 +1747,13 @@ struct Call<'a> {
 /// The sums as a [`ForceSum`] (world axes).
 fn finish(call: &Call, c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
     let mut acc = *acc;
-    let (chunks, listed, single, band) = (acc.chunks, acc.listed, acc.single, acc.band);
+    let (chunks, listed, single, band, band4) =
+        (acc.chunks, acc.listed, acc.single, acc.band, acc.band4);
     acc.add_lanes(&chunks);
     acc.add_lanes(&listed);
     acc.add_lanes(&single);
     acc.add_lanes(&band);
+    acc.add_lanes(&band4);
     let mut torque = acc.torque;
     if let (Some(fraction), Some(dir)) = (call.hp.pressure_centre, c.dir) {
         torque += acc.planing_shift(fraction, dir);
@@ -1733,6 +1790,7 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
         sorted,
         heights,
         wet,
+        ..
     } = ks;
     let Some(s) = sorted.as_ref() else {
         return ForceSum::default();
@@ -1793,6 +1851,9 @@ fn body_path<const LAW: u8>(
     loads: &mut Vec<FaceLoad>,
 ) -> ForceSum {
     let km = &stone.kernel;
+    if let Some(rev) = &km.revolution {
+        return rings::ring_path::<LAW>(stone, rev, call, ks, loads);
+    }
     let pose = call.pose;
     let (rot, u) = frame(pose.orientation);
     let c = Ctx::new(stone, call.hp, pose, Some(rot), call);
@@ -1861,13 +1922,14 @@ mod tests {
         (*seed >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    /// The lanes' law is the reference's, bit for bit, for every law, ventilation, pressure sign
-    /// and buoyancy, with the normal velocity given apart (smooth spin) or as v·N.
+    /// The lanes' law is the reference's, bit for bit, for every law, ventilation, pressure sign,
+    /// buoyancy on the loaded or every wetted face, with the normal velocity given apart (smooth
+    /// spin) or as v·N.
     #[test]
     fn lane_law_is_face_force_bit_for_bit() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
         for law in ForceLaw::ALL {
-            for options in 0..8u32 {
+            for options in 0..16u32 {
                 let (lift, friction) = law.default_coefficients();
                 let hp = HydroParams {
                     law,
@@ -1879,7 +1941,7 @@ mod tests {
                     opposing: options & 2 != 0,
                     smooth_spin: false,
                     rho_g: if options & 4 != 0 { 9810.0 } else { 0.0 },
-                    hydrostatic_wetted: false,
+                    hydrostatic_wetted: options & 8 != 0,
                 };
                 for i in 0..500 {
                     let mut r = || 2.0 * rng(&mut seed) - 1.0;
@@ -1973,7 +2035,7 @@ mod tests {
         let end = faces.len() / LANES * LANES;
         let mut seed = 12345u64;
         for law in ForceLaw::ALL {
-            for (ventilated, spin, extras) in (0..32u32).map(|k| (k & 1 != 0, k & 2 != 0, k >> 2)) {
+            for (ventilated, spin, extras) in (0..64u32).map(|k| (k & 1 != 0, k & 2 != 0, k >> 2)) {
                 {
                     let (lift, friction) = law.default_coefficients();
                     let hp = HydroParams {
@@ -1986,7 +2048,7 @@ mod tests {
                         opposing: extras & 1 != 0,
                         smooth_spin: extras & 2 != 0,
                         rho_g: if extras & 4 != 0 { 9810.0 } else { 0.0 },
-                        hydrostatic_wetted: false,
+                        hydrostatic_wetted: extras & 8 != 0,
                     };
                     let mut r = || 2.0 * rng(&mut seed) - 1.0;
                     let pose = Pose {
