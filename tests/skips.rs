@@ -43,8 +43,9 @@ fn impulse_per_mass(c: &ContactEvent, g: f64) -> f64 {
 }
 
 /// The default throw over a 2 cm, 3 m swell with wavy contact: crests brush the stone as it climbs
-/// away from a bounce. Those grazes carry next to no impulse (under a tenth of the weight's over
-/// their duration, against several times the weight for a bounce), are not counted, and the count
+/// away from a bounce. Those grazes carry less than the weight's impulse over their duration (the
+/// rule; how much less depends on the run: a 1 nm change of the launch height moves one graze from
+/// 0.01 to 0.33 of it), a bounce several times the weight's; grazes are not counted, and the count
 /// equals the hops a student sees: one apex in flight after each skip.
 #[test]
 fn swell_grazes_are_listed_but_not_counted() {
@@ -65,8 +66,9 @@ fn swell_grazes_are_listed_but_not_counted() {
         let weight = g * (c.t_end - c.t_start);
         let j = impulse_per_mass(c, g);
         assert!(
-            j < 0.1 * weight + 1e-9,
-            "a graze carries next to no impulse: J/m = {j:.2e} m/s against g·T = {weight:.2e}: {c:?}"
+            j <= weight + 1e-9,
+            "a graze carries less than the weight's impulse: J/m = {j:.2e} m/s against g·T = \
+             {weight:.2e}: {c:?}"
         );
         assert!(!c.skip, "{c:?}");
     }
