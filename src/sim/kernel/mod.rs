@@ -947,6 +947,21 @@ impl Acc {
         self.s_max = self.s_max.max(s);
     }
 
+    /// Extends the wetted extent along `dir` over the wet part of the triangle `p` whose corners
+    /// have signed heights `d` (its wet corners and the points where its edges cross the water).
+    fn extend_wetted(&mut self, p: [DVec3; 3], d: [f64; 3], dir: DVec3) {
+        for k in 0..3 {
+            let j = (k + 1) % 3;
+            if d[k] <= 0.0 {
+                self.extend(p[k].dot(dir));
+            }
+            if (d[k] <= 0.0) != (d[j] <= 0.0) {
+                let t = d[k] / (d[k] - d[j]);
+                self.extend((p[k] + (p[j] - p[k]) * t).dot(dir));
+            }
+        }
+    }
+
     /// Torque added by moving the pressure's resultant along `dir` to the planing centre
     /// (the reference's `Planing::torque_shift`).
     fn planing_shift(&self, fraction: f64, dir: DVec3) -> DVec3 {
@@ -1655,16 +1670,7 @@ fn band_face<const LAW: u8, const ROT: bool>(
         return;
     }
     if let Some(dir) = c.dir {
-        for k in 0..3 {
-            let j = (k + 1) % 3;
-            if d[k] <= 0.0 {
-                acc.extend(p[k].dot(dir));
-            }
-            if (d[k] <= 0.0) != (d[j] <= 0.0) {
-                let t = d[k] / (d[k] - d[j]);
-                acc.extend((p[k] + (p[j] - p[k]) * t).dot(dir));
-            }
-        }
+        acc.extend_wetted(p, d, dir);
     }
     if c.record {
         let fl = DVec3::new(f[0][0], f[1][0], f[2][0]);

@@ -549,17 +549,7 @@ fn band_faces_body<const LAW: u8>(
             }
             let i = i as usize;
             if let Some(dir) = c.dir {
-                let p = [0, 1, 2].map(|k| faces.corner(k, i));
-                for k in 0..3 {
-                    let j = (k + 1) % 3;
-                    if d[k] <= 0.0 {
-                        acc.extend(p[k].dot(dir));
-                    }
-                    if (d[k] <= 0.0) != (d[j] <= 0.0) {
-                        let t = d[k] / (d[k] - d[j]);
-                        acc.extend((p[k] + (p[j] - p[k]) * t).dot(dir));
-                    }
-                }
+                acc.extend_wetted([0, 1, 2].map(|k| faces.corner(k, i)), d, dir);
             }
             if c.record {
                 let g = DVec3::new(x.g[0][l], x.g[1][l], x.g[2][l]);
