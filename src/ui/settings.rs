@@ -111,6 +111,28 @@ fn label_ui(ui: &mut Ui, marks: &Marks, keys: &[&str], label: &str, tip: &str) -
     preset
 }
 
+/// A labelled row of radio buttons choosing `value` among `options` (value, label); true when
+/// the choice changed.
+fn choice_row_ui<T: PartialEq + Copy>(
+    ui: &mut Ui,
+    marks: &Marks,
+    keys: &[&str],
+    label: &str,
+    tip: &str,
+    value: &mut T,
+    options: &[(T, &str)],
+) -> bool {
+    label_ui(ui, marks, keys, label, tip);
+    let before = *value;
+    ui.horizontal(|ui| {
+        for &(option, text) in options {
+            ui.radio_value(value, option, text);
+        }
+    });
+    ui.end_row();
+    before != *value
+}
+
 fn marked_tip(tip: &str, preset: &str) -> String {
     if tip.is_empty() {
         format!("Differs from the loaded preset: {preset}")
@@ -536,20 +558,15 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 |ui| ui.add(slider(&mut physics.tolerance, 1e-10..=1e-3).logarithmic(true)),
             );
         }
-        label_ui(
+        c |= choice_row_ui(
             ui,
             marks,
             &["rotation"],
             "Rotation",
             "Locked: attitude held (the paper). Free: a rigid body with spin and torque.",
+            &mut physics.rotation,
+            &[(Rotation::Locked, "Locked"), (Rotation::Free, "Free")],
         );
-        let before = physics.rotation;
-        ui.horizontal(|ui| {
-            ui.radio_value(&mut physics.rotation, Rotation::Locked, "Locked");
-            ui.radio_value(&mut physics.rotation, Rotation::Free, "Free");
-        });
-        ui.end_row();
-        c |= before != physics.rotation;
         if physics.rotation == Rotation::Free {
             c |= free_body_rows_ui(ui, physics, marks);
         }
@@ -614,7 +631,7 @@ fn free_body_rows_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool 
         );
     }
     c |= before != physics.pressure_centre;
-    label_ui(
+    c |= choice_row_ui(
         ui,
         marks,
         &["axial spin"],
@@ -622,14 +639,9 @@ fn free_body_rows_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool 
         "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves \
                  no water normal to its surface (only friction feels it). Faceted: the mesh's flat facets \
                  paddle the water as they spin.",
+        &mut physics.axial_spin,
+        &[(AxialSpin::Smooth, "Smooth"), (AxialSpin::Faceted, "Faceted")],
     );
-    let before = physics.axial_spin;
-    ui.horizontal(|ui| {
-        ui.radio_value(&mut physics.axial_spin, AxialSpin::Smooth, "Smooth");
-        ui.radio_value(&mut physics.axial_spin, AxialSpin::Faceted, "Faceted");
-    });
-    ui.end_row();
-    c |= before != physics.axial_spin;
     c
 }
 
@@ -884,28 +896,18 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
 fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut c = false;
     if !physics.ventilated {
-        label_ui(
+        c |= choice_row_ui(
             ui,
             marks,
             &["pressure sign"],
             "Receding faces",
             "As printed (the paper's eq. 19): a wetted face moving out of the water is still pushed along −N, which gives the stone energy. Opposes motion: each face's pressure opposes its own normal velocity (never gains energy).",
+            &mut physics.pressure_sign,
+            &[
+                (PressureSign::AsPrinted, "As printed"),
+                (PressureSign::OpposesMotion, "Opposes motion"),
+            ],
         );
-        let before = physics.pressure_sign;
-        ui.horizontal(|ui| {
-            ui.radio_value(
-                &mut physics.pressure_sign,
-                PressureSign::AsPrinted,
-                "As printed",
-            );
-            ui.radio_value(
-                &mut physics.pressure_sign,
-                PressureSign::OpposesMotion,
-                "Opposes motion",
-            );
-        });
-        ui.end_row();
-        c |= before != physics.pressure_sign;
     }
     label_ui(
         ui,
@@ -917,7 +919,7 @@ fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool
     c |= ui.checkbox(&mut physics.buoyancy, "").changed();
     ui.end_row();
     if physics.buoyancy {
-        label_ui(
+        c |= choice_row_ui(
             ui,
             marks,
             &["hydrostatic"],
@@ -926,22 +928,12 @@ fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool
              ρ g V (ventilation removes only the dynamic pressure and friction). Loaded faces: only \
              the faces carrying the dynamic pressure, as before issue 11's fix (a ventilated, \
              submerged stone then switches its buoyancy on and off: docs/reliability.md, A1).",
+            &mut physics.hydrostatic,
+            &[
+                (Hydrostatic::WettedFaces, "Wetted faces"),
+                (Hydrostatic::LoadedFaces, "Loaded faces"),
+            ],
         );
-        let before = physics.hydrostatic;
-        ui.horizontal(|ui| {
-            ui.radio_value(
-                &mut physics.hydrostatic,
-                Hydrostatic::WettedFaces,
-                "Wetted faces",
-            );
-            ui.radio_value(
-                &mut physics.hydrostatic,
-                Hydrostatic::LoadedFaces,
-                "Loaded faces",
-            );
-        });
-        ui.end_row();
-        c |= before != physics.hydrostatic;
     }
     c
 }
