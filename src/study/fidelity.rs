@@ -242,13 +242,9 @@ fn ensemble_offsets(quick: bool) -> Vec<f64> {
     }
 }
 
-fn spin_sweep(quick: bool) -> Result<(ThrowShape, Vec<SpinRun>), StudyError> {
+fn spin_sweep(quick: bool) -> Result<Vec<SpinRun>, StudyError> {
     let p = shipped_for("default", quick)?;
-    let mut locked = p.clone();
-    locked.physics.rotation = Rotation::Locked;
-    let (_, locked) = shape(&locked)?;
-    let runs = spin_runs(&p, &spin_revs(quick), &ensemble_offsets(quick))?;
-    Ok((locked, runs))
+    spin_runs(&p, &spin_revs(quick), &ensemble_offsets(quick))
 }
 
 /// Launch tilts (°) of the tilt check and their spins: does the fall at high spin depend on the
@@ -264,8 +260,9 @@ fn tilt_check(quick: bool) -> (Vec<f64>, Vec<f64>) {
     }
 }
 
-/// The spin sweep again at other launch tilts (same ensemble), and the locked count at each.
-fn spin_tilts(quick: bool) -> Result<Vec<(f64, ThrowShape, Vec<SpinRun>)>, StudyError> {
+/// The spin sweep again at other launch tilts (same ensemble); their locked counts are in
+/// [`locked_tilts`].
+fn spin_tilts(quick: bool) -> Result<Vec<(f64, Vec<SpinRun>)>, StudyError> {
     let p = shipped_for("default", quick)?;
     let (tilts, revs) = tilt_check(quick);
     tilts
@@ -273,14 +270,7 @@ fn spin_tilts(quick: bool) -> Result<Vec<(f64, ThrowShape, Vec<SpinRun>)>, Study
         .map(|tilt| {
             let mut q = p.clone();
             q.launch.attitude.tilt_deg = tilt;
-            let mut locked = q.clone();
-            locked.physics.rotation = Rotation::Locked;
-            let (_, locked) = shape(&locked)?;
-            Ok((
-                tilt,
-                locked,
-                spin_runs(&q, &revs, &ensemble_offsets(quick))?,
-            ))
+            Ok((tilt, spin_runs(&q, &revs, &ensemble_offsets(quick))?))
         })
         .collect()
 }
@@ -296,26 +286,28 @@ fn spin_runs(p: &Preset, revs: &[f64], offsets: &[f64]) -> Result<Vec<SpinRun>, 
         q.launch.spin = rev * TAU;
         q.launch.position[2] += dz;
         shape(&q).map(|(s, t)| {
-            let first = s.contacts.first().map_or(f64::NAN, |c| c.attitude_out[0]);
-            let last = s.contacts.last().map_or(f64::NAN, |c| c.attitude_in[0]);
-            let tau = s.contacts.first().map_or(f64::NAN, |c| c.t_end - c.t_start);
-            (rev, dz, t, first, last, tau)
+            let (first, last) = (s.contacts.first(), s.contacts.last());
+            let run = SpinRun {
+                rev_per_s: rev,
+                shape: t,
+                members: Vec::new(),
+                tilt_after_first: first.map_or(f64::NAN, |c| c.attitude_out[0]),
+                first_contact_s: first.map_or(f64::NAN, |c| c.t_end - c.t_start),
+                tilt_at_last: last.map_or(f64::NAN, |c| c.attitude_in[0]),
+            };
+            (dz, run)
         })
     })?;
     Ok(revs
         .iter()
         .filter_map(|&rev| {
-            let of_rev: Vec<_> = results.iter().filter(|r| r.0 == rev).collect();
-            let centre = of_rev.iter().find(|r| r.1 == 0.0)?;
-            let mut members: Vec<usize> = of_rev.iter().map(|r| r.2.skips).collect();
+            let of_rev: Vec<_> = results.iter().filter(|r| r.1.rev_per_s == rev).collect();
+            let mut members: Vec<usize> = of_rev.iter().map(|r| r.1.shape.skips).collect();
             members.sort_unstable();
+            let centre = of_rev.iter().find(|r| r.0 == 0.0)?;
             Some(SpinRun {
-                rev_per_s: rev,
-                shape: centre.2,
                 members,
-                tilt_after_first: centre.3,
-                first_contact_s: centre.5,
-                tilt_at_last: centre.4,
+                ..centre.1.clone()
             })
         })
         .collect())
@@ -329,10 +321,20 @@ pub struct LockedTilt {
     pub shape: ThrowShape,
 }
 
+/// The locked run at `tilt` among `locked`.
+fn locked_at(locked: &[LockedTilt], tilt: f64) -> Result<ThrowShape, StudyError> {
+    locked
+        .iter()
+        .find(|l| l.tilt_deg == tilt)
+        .map(|l| l.shape)
+        .ok_or_else(|| StudyError::Failed(format!("no locked run at {tilt}°")))
+}
+
 fn locked_tilts(quick: bool) -> Result<Vec<LockedTilt>, StudyError> {
     let p = shipped_for("default", quick)?;
+    // The launch's 20° and every launch tilt of the tilt check among them.
     let tilts = if quick {
-        vec![5.0, 20.0]
+        vec![5.0, 10.0, 20.0]
     } else {
         vec![5.0, 10.0, 15.0, 20.0, 25.0, 30.0]
     };
@@ -644,8 +646,8 @@ pub struct Fidelity {
     pub paper: PaperEnergy,
     pub locked: ThrowShape,
     pub spin: Vec<SpinRun>,
-    /// (launch tilt °, its locked count, its spin sweep).
-    pub spin_tilts: Vec<(f64, ThrowShape, Vec<SpinRun>)>,
+    /// (launch tilt °, its spin sweep); the locked counts are in `locked_tilts`.
+    pub spin_tilts: Vec<(f64, Vec<SpinRun>)>,
     pub locked_tilts: Vec<LockedTilt>,
     pub turns: Vec<AxisTurn>,
     pub curve: Vec<CurveRun>,
@@ -662,11 +664,13 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let bounces = energy_budget(q)?;
     let paper = paper_energy()?;
     ctx.progress("spin sweep");
-    let (locked, spin) = spin_sweep(q)?;
+    let spin = spin_sweep(q)?;
     ctx.progress("spin sweep at other launch tilts");
     let spin_tilts = spin_tilts(q)?;
     ctx.progress("locked tilts");
     let locked_tilts = locked_tilts(q)?;
+    let launch_tilt = shipped_for("default", q)?.launch.attitude.tilt_deg;
+    let locked = locked_at(&locked_tilts, launch_tilt)?;
     ctx.progress("precession per contact");
     let turns = precession(q)?;
     ctx.progress("the curve");
@@ -789,7 +793,8 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         "max",
         "locked_skips",
     ]);
-    for (tilt, locked, runs) in &f.spin_tilts {
+    for (tilt, runs) in &f.spin_tilts {
+        let locked = locked_at(&f.locked_tilts, *tilt)?;
         for r in runs {
             c.push(vec![
                 (*tilt).into(),
@@ -1077,18 +1082,13 @@ fn lead_table(f: &Fidelity) -> String {
         ]);
     }
     let facts = curve_facts(f);
-    let sides: Vec<String> = facts
-        .by_spin
-        .iter()
-        .map(|b| format!("{} at {}", side(b.1), b.0))
-        .collect();
     rows.push(vec![
         "the path curves towards the spin, more with each bounce; reversed spin mirrors it (Tang 2021)"
             .into(),
         "locked attitude: no curve (the stone cannot bank)".into(),
         format!(
             "flat water, touchdown {CURVE_AT}: {} rev/s (+y: the leading edge's side); mirror to {}",
-            sides.join(", "),
+            facts.sides(""),
             sig(facts.mirror, 2)
         ),
     ]);
@@ -1350,7 +1350,7 @@ fn clanet_turn_words(f: &Fidelity) -> String {
 
 /// The spin sweep at other launch tilts: median (range) per spin, against the locked count.
 fn tilt_check_section(f: &Fidelity) -> String {
-    let Some((_, _, first)) = f.spin_tilts.first() else {
+    let Some((_, first)) = f.spin_tilts.first() else {
         return String::new();
     };
     let mut s = String::from(
@@ -1367,8 +1367,10 @@ fn tilt_check_section(f: &Fidelity) -> String {
     let rows: Vec<Vec<String>> = f
         .spin_tilts
         .iter()
-        .map(|(tilt, locked, runs)| {
-            let mut row = vec![sig(*tilt, 3), locked.skips.to_string()];
+        .map(|(tilt, runs)| {
+            let locked = locked_at(&f.locked_tilts, *tilt)
+                .map_or_else(|_| "n/a".to_owned(), |l| l.skips.to_string());
+            let mut row = vec![sig(*tilt, 3), locked];
             row.extend(runs.iter().map(|r| {
                 let (lo, hi) = (r.members.first(), r.members.last());
                 match (lo, hi) {
@@ -1527,6 +1529,18 @@ pub fn curve_facts(f: &Fidelity) -> CurveFacts {
     CurveFacts { by_spin, mirror }
 }
 
+impl CurveFacts {
+    /// "+y at 40 rev/s, −y at 10 rev/s, …": the side at touchdown [`CURVE_AT`] per spin, with
+    /// `unit` after each spin.
+    fn sides(&self, unit: &str) -> String {
+        self.by_spin
+            .iter()
+            .map(|b| format!("{} at {}{unit}", side(b.1), b.0))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 fn side(y: f64) -> &'static str {
     if y > 0.0 {
         "+y"
@@ -1582,17 +1596,12 @@ fn curve_section(f: &Fidelity) -> String {
          apart). ",
         sig(facts.mirror, 2)
     ));
-    let sides: Vec<String> = facts
-        .by_spin
-        .iter()
-        .map(|b| format!("{} at {} rev/s", side(b.1), b.0))
-        .collect();
     s.push_str(&format!(
         "Side at touchdown {CURVE_AT}: {}. Tang et al. (2021) report a path curving towards the \
          spin, more with each bounce, with the Magnus effect dominating below ~18 rev/s; compare \
          the sides and friction's share above (the model has no air-side Magnus force: its side \
          force is water friction on the spinning patch).\n\n",
-        sides.join(", ")
+        facts.sides(" rev/s")
     ));
     let rows: Vec<Vec<String>> = f
         .curve
