@@ -538,10 +538,7 @@ fn the_lakes_edges_show_as_a_sand_rim_in_every_camera() {
             show_markers: false,
             ..SceneStyle::default()
         };
-        let mut scene = state.scene_for_view(style, view, 10.0, aspect);
-        // Nor the stone: a lit pebble at the waterline is sand-coloured too, and in the side view
-        // the lake's long edges project onto the waterline.
-        scene.stone = None;
+        let scene = state.scene_for_view(style, view, 10.0, aspect);
         let rim = stoneskip::render::build::lake_rim(o, hi);
         assert!(
             rim.iter().all(|l| scene.lines.contains(l)),
