@@ -186,12 +186,7 @@ fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Re
         Some(p) => {
             let f =
                 std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
-            let mut w = CsvWriter::new(
-                std::io::BufWriter::new(f),
-                sim.stone().clone(),
-                preset.physics.rotation,
-                preset.physics.gravity,
-            )?;
+            let mut w = CsvWriter::new(std::io::BufWriter::new(f), &sim)?;
             w.start(&StepSample {
                 time: 0.0,
                 state: *sim.state(),

@@ -5,10 +5,11 @@ use std::io::Write;
 
 use glam::DVec3;
 
-use crate::sim::integrate::{flight, BodyState};
+use crate::sim::air::Air;
+use crate::sim::integrate::{fly, BodyState};
 use crate::sim::params::Rotation;
 use crate::sim::stone::Stone;
-use crate::sim::{StepSample, Summary};
+use crate::sim::{Simulation, StepSample, Summary};
 
 /// The CSV header (design.md §7).
 pub const CSV_HEADER: &str =
@@ -96,22 +97,21 @@ pub struct CsvWriter<W: Write> {
     stone: Stone,
     rotation: Rotation,
     gravity: f64,
+    air: Option<Air>,
 }
 
 impl<W: Write> CsvWriter<W> {
-    pub fn new(
-        mut out: W,
-        stone: Stone,
-        rotation: Rotation,
-        gravity: f64,
-    ) -> std::io::Result<Self> {
+    /// For the run `sim` (its stone and flight model fill the flight rows).
+    pub fn new(mut out: W, sim: &Simulation) -> std::io::Result<Self> {
         writeln!(out, "{CSV_HEADER}")?;
+        let physics = &sim.preset().physics;
         Ok(Self {
             out,
             last: None,
-            stone,
-            rotation,
-            gravity,
+            stone: sim.stone().clone(),
+            rotation: physics.rotation,
+            gravity: physics.gravity,
+            air: sim.air().copied(),
         })
     }
 
@@ -129,8 +129,14 @@ impl<W: Write> CsvWriter<W> {
                 let n = (gap / CSV_FLIGHT_INTERVAL).ceil() as usize;
                 for k in 1..n {
                     let t = gap * k as f64 / n as f64;
-                    let st: BodyState =
-                        flight(&self.stone, self.rotation, self.gravity, &prev.state, t);
+                    let st: BodyState = fly(
+                        &self.stone,
+                        self.rotation,
+                        self.gravity,
+                        self.air.as_ref(),
+                        &prev.state,
+                        t,
+                    );
                     self.row(&StepSample {
                         time: prev.time + t,
                         state: st,

@@ -95,8 +95,7 @@ pub fn write_csv(path: &Path, sim: &Simulation, samples: &[StepSample]) -> Resul
         std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
     let mut out = std::io::BufWriter::new(file);
     out.write_all(csv_preamble(&sim.preset().name).as_bytes())?;
-    let physics = sim.preset().physics;
-    let mut w = CsvWriter::new(out, sim.stone().clone(), physics.rotation, physics.gravity)?;
+    let mut w = CsvWriter::new(out, sim)?;
     let mut it = samples.iter();
     if let Some(first) = it.next() {
         w.start(first)?;

@@ -846,7 +846,9 @@ impl Model {
             ));
         }
         if self.phase == Phase::Ready && self.invalid.is_none() {
-            scene.lines.extend(aim_preview(self.sim.preset()));
+            scene
+                .lines
+                .extend(aim_preview(self.sim.preset(), self.sim.stone()));
         }
         let ghosts: Vec<Vec<Vec3>> = self.ghosts.iter().map(|g| g.points.clone()).collect();
         scene.lines.extend(ghost_lines(&ghosts));

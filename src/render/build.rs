@@ -11,7 +11,9 @@ use super::camera::{throw_heading, Camera, Framing};
 use super::scene::{
     Line, Marker, Scene, SceneStyle, Splash, StoneView, WaterView, SPLASH_DURATION,
 };
+use crate::sim::launch_arc;
 use crate::sim::params::Preset;
+use crate::sim::stone::Stone;
 use crate::sim::{ContactEvent, Simulation, StepSample};
 
 /// The scene of `sim` now. `pose` overrides the stone's pose (the app's interpolation between
@@ -295,29 +297,17 @@ pub fn side_guides(framing: &Framing, contacts: &[ContactEvent], camera: &Camera
     lines
 }
 
-/// The aim preview: the first flight's ballistic arc from the launch until the centre of mass
-/// reaches the water (exact free flight, design §4), dashed.
-pub fn aim_preview(preset: &Preset) -> Vec<Line> {
-    let p0 = DVec3::from_array(preset.launch.position);
-    let v0 = DVec3::from_array(preset.launch.velocity);
-    let g = preset.physics.gravity;
-    // Time to z = 0: p0.z + v0.z t − g t²/2 = 0.
-    let disc = v0.z * v0.z + 2.0 * g * p0.z.max(0.0);
-    let t_end = if g > 0.0 && disc >= 0.0 {
-        (v0.z + disc.sqrt()) / g
-    } else {
-        1.0
-    };
-    let t_end = if t_end.is_finite() {
-        t_end.clamp(0.05, 5.0)
-    } else {
-        1.0
-    };
-    let n = 40;
-    let at = |k: usize| {
-        let t = t_end * k as f64 / n as f64;
-        (p0 + v0 * t - DVec3::Z * (0.5 * g * t * t)).as_vec3()
-    };
+/// The aim preview: the first flight's arc from the launch until the centre of mass reaches the
+/// water (the run's own flight model: the exact parabola, or with the air's forces when the preset
+/// has them; design §4), dashed.
+pub fn aim_preview(preset: &Preset, stone: &Stone) -> Vec<Line> {
+    let mut path = launch_arc(preset, stone, 0.01, 5.0);
+    if path.len().is_multiple_of(2) {
+        // An odd count of points: dashes of one leg, gaps of one, ending on the landing point.
+        path.insert(path.len() - 1, path[path.len() - 1]);
+    }
+    let n = path.len() - 1;
+    let at = |k: usize| path[k].as_vec3();
     let color = [0.6, 0.95, 1.0, 0.9];
     let mut lines: Vec<Line> = (0..n)
         .step_by(2)

@@ -14,6 +14,7 @@
 //! sinks. A step reports the forces of its end, and the water receives the stone's whole impulse,
 //! vertical and horizontal (Newton's third law, to rounding).
 
+pub mod air;
 pub mod contact;
 pub mod hydro;
 pub mod integrate;
@@ -28,15 +29,16 @@ pub mod water;
 use glam::{DMat3, DQuat, DVec3};
 use serde::Serialize;
 
+use air::Air;
 use hydro::{
     lowest_clearance, underside_submerged, FaceLoad, FlatSurface, ForceSum, HydroParams, Scratch,
     Surface,
 };
 use integrate::{
-    first_touch, flight, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv,
+    first_touch, fly, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv,
     Dynamics, ErrorScales, FlightBound,
 };
-use params::{Integrator, ParamError, Physics, Preset, Rotation};
+use params::{Integrator, ParamError, Physics, Preset, Rotation, Shape};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
 use water::WaterGrid;
 
@@ -310,6 +312,8 @@ pub struct Simulation {
     preset: Preset,
     stone: Stone,
     hydro: HydroParams,
+    /// The air in flight (`physics.air`), `None`: exact force-free flight.
+    air: Option<Air>,
     water: Option<WaterGrid>,
     water_max_eta: f64,
     /// Upper bound of the water surface's slope (wavy contact), for the flight's clearance bound.
@@ -356,17 +360,7 @@ impl Simulation {
         preset.validate()?;
         let stone = Stone::new(&preset.stone)?;
         let l = &preset.launch;
-        let orientation = orientation_from_attitude(&l.attitude);
-        let axis = orientation * DVec3::Z;
-        let omega = axis * l.spin + DVec3::from_array(l.angular_velocity);
-        let r = DMat3::from_quat(orientation);
-        let angular_momentum = r * (stone.inertia * (r.transpose() * omega));
-        let state = BodyState {
-            position: DVec3::from_array(l.position),
-            velocity: DVec3::from_array(l.velocity),
-            orientation,
-            angular_momentum,
-        };
+        let state = launch_state(preset, &stone);
         let water = if preset.water.enabled {
             let origin = preset.water.origin_for([l.position[0], l.position[1]]);
             Some(WaterGrid::new(
@@ -381,6 +375,7 @@ impl Simulation {
         let volume_initial = water.as_ref().map_or(0.0, |w| w.volume());
         let mut sim = Self {
             hydro: HydroParams::from_physics(&preset.physics),
+            air: air_model(&preset.physics, &preset.stone.shape),
             preset: preset.clone(),
             water_max_eta: 0.0,
             water_max_slope: 0.0,
@@ -423,6 +418,10 @@ impl Simulation {
     }
     pub fn stone(&self) -> &Stone {
         &self.stone
+    }
+    /// The air's model in flight (`None`: none, the exact parabola).
+    pub fn air(&self) -> Option<&Air> {
+        self.air.as_ref()
     }
     pub fn state(&self) -> &BodyState {
         &self.motion.state
@@ -499,6 +498,7 @@ impl Simulation {
         }
         self.preset.physics = physics;
         self.hydro = HydroParams::from_physics(&physics);
+        self.air = air_model(&physics, &self.preset.stone.shape);
         self.motion.fsal = None;
         // The reach of the next tick depends on the tick.
         self.refresh_water_max();
@@ -810,6 +810,7 @@ impl Simulation {
             integrator: physics.integrator,
             tolerance: physics.tolerance,
             slope: surface.max_slope(),
+            air: self.air,
         };
         let m = &mut self.motion;
         let prev = m.state;
@@ -834,7 +835,6 @@ impl Simulation {
         sunk: bool,
         on_step: &mut dyn FnMut(&StepSample),
     ) {
-        let physics = self.preset.physics;
         let s = self.motion.state;
         let t = self.motion.time;
         let now = self.clearance(&s) <= 0.0;
@@ -842,14 +842,14 @@ impl Simulation {
         if now && !was {
             // Entry: the motion before it was flight; locate the first touch on that parabola.
             let sstar = self.bisect_crossing(prev, h, true);
-            let at = flight(&self.stone, physics.rotation, physics.gravity, prev, sstar);
+            let at = self.fly(prev, sstar);
             let ev = self.start_event(t - h + sstar, &at);
             self.motion.contacts.push(ev);
         } else if was && !now {
             // Exit: the motion after it is flight; locate the last touch backwards from here.
             let surface_flat = self.surface().is_flat();
             let sstar = self.bisect_crossing(&s, h, false);
-            let at = flight(&self.stone, physics.rotation, physics.gravity, &s, -sstar);
+            let at = self.fly(&s, -sstar);
             if let Some(ev) = self.motion.contacts.last_mut() {
                 if ev.open {
                     ev.open = false;
@@ -886,27 +886,75 @@ impl Simulation {
         }
     }
 
+    /// The flight from `s` over `t` (with the air when the preset has it).
+    fn fly(&self, s: &BodyState, t: f64) -> BodyState {
+        let physics = &self.preset.physics;
+        fly(
+            &self.stone,
+            physics.rotation,
+            physics.gravity,
+            self.air.as_ref(),
+            s,
+            t,
+        )
+    }
+
     /// Along the flight from `from` (forwards when `forward`, else backwards) over [0, h], the
     /// offset at which the lowest vertex reaches the surface.
     fn bisect_crossing(&self, from: &BodyState, h: f64, forward: bool) -> f64 {
-        let physics = &self.preset.physics;
         let sign = if forward { 1.0 } else { -1.0 };
-        let wet = |s: f64| {
-            let st = flight(
-                &self.stone,
-                physics.rotation,
-                physics.gravity,
-                from,
-                sign * s,
-            );
-            self.clearance(&st) <= 0.0
-        };
+        let wet = |s: f64| self.clearance(&self.fly(from, sign * s)) <= 0.0;
         // Forwards: dry at 0, wet at h. Backwards from a dry state: dry at 0, wet at h.
         if !wet(h) {
             return h;
         }
         first_wet(0.0, h, 60, wet)
     }
+}
+
+/// The stone's state at the launch.
+fn launch_state(preset: &Preset, stone: &Stone) -> BodyState {
+    let l = &preset.launch;
+    let orientation = orientation_from_attitude(&l.attitude);
+    let axis = orientation * DVec3::Z;
+    let omega = axis * l.spin + DVec3::from_array(l.angular_velocity);
+    let r = DMat3::from_quat(orientation);
+    BodyState {
+        position: DVec3::from_array(l.position),
+        velocity: DVec3::from_array(l.velocity),
+        orientation,
+        angular_momentum: r * (stone.inertia * (r.transpose() * omega)),
+    }
+}
+
+/// The centre of mass's path in the first flight of `preset` with `stone` (the aim preview), every
+/// `dt` seconds from the launch until it reaches z = 0 (that point last) or `max_time` passes: the
+/// run's own flight model, the air's forces included when the preset has them.
+pub fn launch_arc(preset: &Preset, stone: &Stone, dt: f64, max_time: f64) -> Vec<DVec3> {
+    let physics = &preset.physics;
+    let air = air_model(physics, &preset.stone.shape);
+    let fly_by =
+        |s: &BodyState, t: f64| fly(stone, physics.rotation, physics.gravity, air.as_ref(), s, t);
+    let mut s = launch_state(preset, stone);
+    let mut path = vec![s.position];
+    let steps = (max_time / dt).ceil().clamp(1.0, 10_000.0) as usize;
+    for _ in 0..steps {
+        let next = fly_by(&s, dt);
+        if next.position.z <= 0.0 && s.position.z > 0.0 {
+            // The last leg to the water, by bisection on its length.
+            let t = first_wet(0.0, dt, 50, |t| fly_by(&s, t).position.z <= 0.0);
+            path.push(fly_by(&s, t).position);
+            break;
+        }
+        s = next;
+        path.push(s.position);
+    }
+    path
+}
+
+/// The air of a physics setting for a stone of this shape.
+fn air_model(physics: &Physics, shape: &Shape) -> Option<Air> {
+    physics.air.map(|p| Air::for_shape(p, shape))
 }
 
 /// Bisection on [lo, hi] for the first offset that is wet, given dry at `lo` and wet at `hi`: at
@@ -961,6 +1009,7 @@ struct StepContext<'a> {
     tolerance: f64,
     /// Upper bound of the surface's slope (0 when flat).
     slope: f64,
+    air: Option<Air>,
 }
 
 impl StepContext<'_> {
@@ -973,20 +1022,38 @@ impl StepContext<'_> {
     }
 
     fn flight(&self, s: &BodyState, t: f64) -> BodyState {
-        flight(self.dy.stone, self.dy.rotation, self.dy.gravity, s, t)
+        fly(
+            self.dy.stone,
+            self.dy.rotation,
+            self.dy.gravity,
+            self.air.as_ref(),
+            s,
+            t,
+        )
     }
 
     /// The first touch along the exact flight from `s` over [0, h] (see [`first_touch`]): `None`
     /// when proven clear, else the bracket of the first touch.
     fn touch(&self, s: &BodyState, h: f64) -> Option<(f64, f64)> {
         let stone = self.dy.stone;
+        // With air the speed and the angular momentum change in flight: bound them over [0, h].
+        let (a_air, m_air) = match &self.air {
+            Some(air) => {
+                let (f, m) = air.bounds(s.velocity.length() + 2.0 * self.dy.gravity * h);
+                (f / stone.mass, m)
+            }
+            None => (0.0, 0.0),
+        };
         let omega = match self.dy.rotation {
             Rotation::Locked => 0.0,
-            Rotation::Free => s.angular_momentum.length() / stone.principal_moments().min_element(),
+            Rotation::Free => {
+                (s.angular_momentum.length() + m_air * h) / stone.principal_moments().min_element()
+            }
         };
-        let speed_h = s.velocity.x.hypot(s.velocity.y);
+        let speed_h = s.velocity.x.hypot(s.velocity.y) + a_air * h;
         let max_eta = self.dy.surface.max_height();
-        let bound = FlightBound::new(stone.bounding_radius, speed_h, omega, self.slope, max_eta);
+        let bound = FlightBound::new(stone.bounding_radius, speed_h, omega, self.slope, max_eta)
+            .with_air(a_air);
         first_touch(
             &|st: &BodyState, t: f64| self.flight(st, t),
             &|st: &BodyState| self.clear(st),

@@ -6,6 +6,8 @@
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+pub use super::air::AirParams;
+
 /// Errors from validating a preset: which field, what it holds and what was expected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("field `{field}`: {message}")]
@@ -304,6 +306,9 @@ pub struct Physics {
     pub buoyancy: bool,
     /// Which wetted faces carry the hydrostatic pressure (with `buoyancy`).
     pub hydrostatic: Hydrostatic,
+    /// The air's lift, drag and pitching moment in flight (`air.rs`); `None`: a vacuum between
+    /// contacts (the paper's parabola).
+    pub air: Option<AirParams>,
     /// s: the tick (fixed step; Adaptive's upper bound).
     pub dt: f64,
     /// s
@@ -327,6 +332,7 @@ impl Default for Physics {
             axial_spin: AxialSpin::Faceted,
             buoyancy: false,
             hydrostatic: Hydrostatic::LoadedFaces,
+            air: None,
             dt: 0.005,
             max_time: 20.0,
         }
@@ -655,6 +661,19 @@ impl Physics {
                 0.0,
                 1.0,
                 "of the wetted length",
+            )?;
+        }
+        if let Some(a) = self.air {
+            check_range("physics.air.density", a.density, 0.0, 100.0, "kg/m³")?;
+            check_range("physics.air.lift_slope", a.lift_slope, 0.0, 20.0, "1/rad")?;
+            check_range("physics.air.drag_zero", a.drag_zero, 0.0, 10.0, "")?;
+            check_range("physics.air.drag_slope", a.drag_slope, 0.0, 20.0, "1/rad²")?;
+            check_range(
+                "physics.air.moment_slope",
+                a.moment_slope,
+                -10.0,
+                10.0,
+                "1/rad",
             )?;
         }
         check_range("physics.dt", self.dt, DT_RANGE.0, DT_RANGE.1, "s")?;

@@ -153,6 +153,14 @@ const MODEL: &[(&str, &str, &str)] = &[
         "Archimedes; Savitsky 1964 (buoyant lift of planing)",
     ),
     (
+        "Air in flight",
+        "Optional (physics.air): between contacts the air lifts, drags and pitches the stone like a \
+         spinning disc wing, C_L = C_Lα α, C_D = C_D0 + C_Dα α², C_M = C_Mα α; the nose-up moment \
+         rolls a spinning stone by M/(I₃ω) per second, so less spin, more roll. Off: the paper's \
+         vacuum.",
+        "Crowther & Potts 2007; Hummel 2003; src/sim/air.rs",
+    ),
+    (
         "Axial spin",
         "Smooth: the pebble stands for a smooth body of revolution, whose spin about its axis \
          moves no water normal to its surface; the facets then neither paddle nor spin it up.",

@@ -5,7 +5,7 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    AxialSpin, ForceLaw, Hydrostatic, Integrator, Launch, Limiter, Physics, Precision,
+    AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Launch, Limiter, Physics, Precision,
     PressureCentre, PressureSign, Rotation, Shape, StoneParams, Swell, WaterParams,
     MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
 };
@@ -537,6 +537,7 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         c |= ui.checkbox(&mut physics.ventilated, "").changed();
         ui.end_row();
         c |= loading_options_ui(ui, physics, marks);
+        c |= air_ui(ui, physics, marks);
         label_ui(ui, marks, &["integrator"], "Integrator", "");
         let before = physics.integrator;
         egui::ComboBox::from_id_salt("integrator")
@@ -892,6 +893,71 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
     });
 }
 
+/// The air in flight (`air.rs`): on or off, and its density and coefficients when on.
+fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
+    let mut c = false;
+    label_ui(
+        ui,
+        marks,
+        &["air"],
+        "Air in flight",
+        "Lift, drag and the pitching moment of a spinning disc between contacts (Crowther & Potts \
+         2007; Hummel 2003's coefficients, a lens has no camber). The moment rolls a slowly spun \
+         stone in the air. Off: a vacuum, the paper's parabola.",
+    );
+    let mut on = physics.air.is_some();
+    if ui.checkbox(&mut on, "").changed() {
+        physics.air = on.then(AirParams::default);
+        c = true;
+    }
+    ui.end_row();
+    if let Some(air) = physics.air.as_mut() {
+        let rows: [(&str, &str, &str, &mut f64, std::ops::RangeInclusive<f64>); 5] = [
+            (
+                "air.density",
+                "Air density",
+                "ρ of the air (kg/m³)",
+                &mut air.density,
+                0.0..=5.0,
+            ),
+            (
+                "air.lift slope",
+                "C_Lα",
+                "Lift per radian of attack",
+                &mut air.lift_slope,
+                0.0..=5.0,
+            ),
+            (
+                "air.drag zero",
+                "C_D0",
+                "Drag at zero attack",
+                &mut air.drag_zero,
+                0.0..=1.0,
+            ),
+            (
+                "air.drag slope",
+                "C_Dα",
+                "Drag per radian² of attack",
+                &mut air.drag_slope,
+                0.0..=5.0,
+            ),
+            (
+                "air.moment slope",
+                "C_Mα",
+                "Pitching moment per radian of attack (nose up: the centre of pressure ahead)",
+                &mut air.moment_slope,
+                -2.0..=2.0,
+            ),
+        ];
+        for (key, label, tip, value, range) in rows {
+            c |= row(ui, marks, key, label, tip, |ui| {
+                ui.add(slider(value, range))
+            });
+        }
+    }
+    c
+}
+
 /// The options of how faces are loaded (issue 11): receding faces without ventilation, buoyancy.
 fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut c = false;
@@ -1114,6 +1180,7 @@ mod tests {
             Hydrostatic::LoadedFaces => Hydrostatic::WettedFaces,
         };
         ph.tolerance *= 10.0;
+        ph.air = Some(AirParams::default());
         ph.pressure_centre = PressureCentre::Planing(0.5);
         ph.axial_spin = match ph.axial_spin {
             AxialSpin::Smooth => AxialSpin::Faceted,
@@ -1143,7 +1210,7 @@ mod tests {
             section_differences(&p.water, &w),
         ];
         let counts: Vec<usize> = d.iter().map(Vec::len).collect();
-        assert_eq!(counts, [13, 4, 13, 13], "{d:?}");
+        assert_eq!(counts, [13, 4, 14, 13], "{d:?}");
         let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
         draw(|ui| {
             launch_ui(ui, &mut l, &m[0]);
