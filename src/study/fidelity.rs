@@ -25,6 +25,7 @@ use super::style::colors;
 use super::style::law_name;
 use super::table::{md_table, sig, Csv, Val};
 use super::throws::clanet_disc;
+use super::fidelity_air::{self, AirStudy};
 use super::{check_cancel, Ctx, StudyError};
 
 /// The "no hovercraft" limits of issue 11: the last contact at most this share of the distance…
@@ -67,7 +68,7 @@ pub const SHIPPED: [(&str, &str); 9] = [
 ];
 
 /// `f` over `items` on rayon's pool, in order; the first error wins.
-fn par_map<T: Send, R: Send>(
+pub(super) fn par_map<T: Send, R: Send>(
     items: Vec<T>,
     f: impl Fn(T) -> Result<R, StudyError> + Sync + Send,
 ) -> Result<Vec<R>, StudyError> {
@@ -80,7 +81,7 @@ fn par_map<T: Send, R: Send>(
 pub const QUICK_CELL: f64 = 0.05;
 
 /// A shipped preset, with its near-field water coarsened to [`QUICK_CELL`] in quick runs.
-fn shipped_for(stem: &str, quick: bool) -> Result<Preset, StudyError> {
+pub(super) fn shipped_for(stem: &str, quick: bool) -> Result<Preset, StudyError> {
     let mut p = shipped(stem)?;
     if quick && p.water.wavy_contact {
         p.water.cell = p.water.cell.max(QUICK_CELL);
@@ -104,11 +105,12 @@ pub fn before(p: &Preset) -> Preset {
     q.physics.rotation = Rotation::Locked;
     q.physics.buoyancy = false;
     q.physics.axial_spin = AxialSpin::Faceted;
+    q.physics.air = None;
     q.water.wavy_contact = false;
     q
 }
 
-fn shape(p: &Preset) -> Result<(Summary, ThrowShape), StudyError> {
+pub(super) fn shape(p: &Preset) -> Result<(Summary, ThrowShape), StudyError> {
     check_cancel()?;
     let s = simulate(p)?;
     let l = p.launch.position;
@@ -221,7 +223,7 @@ impl SpinRun {
     }
 }
 
-fn spin_revs(quick: bool) -> Vec<f64> {
+pub(super) fn spin_revs(quick: bool) -> Vec<f64> {
     if quick {
         vec![0.0, 10.0, 20.0, 40.0, 80.0, 150.0]
     } else {
@@ -234,7 +236,7 @@ fn spin_revs(quick: bool) -> Vec<f64> {
 
 /// Launch-height offsets (m) of the spin ensemble: ±1 mm in half-millimetre steps (the throw
 /// itself alone when quick).
-fn ensemble_offsets(quick: bool) -> Vec<f64> {
+pub(super) fn ensemble_offsets(quick: bool) -> Vec<f64> {
     if quick {
         vec![0.0]
     } else {
@@ -276,7 +278,7 @@ fn spin_tilts(quick: bool) -> Result<Vec<(f64, Vec<SpinRun>)>, StudyError> {
 }
 
 /// `p` at each spin of `revs`, each from the launch heights `offsets` apart.
-fn spin_runs(p: &Preset, revs: &[f64], offsets: &[f64]) -> Result<Vec<SpinRun>, StudyError> {
+pub(super) fn spin_runs(p: &Preset, revs: &[f64], offsets: &[f64]) -> Result<Vec<SpinRun>, StudyError> {
     let jobs: Vec<(f64, f64)> = revs
         .iter()
         .flat_map(|&rev| offsets.iter().map(move |&dz| (rev, dz)))
@@ -655,6 +657,7 @@ pub struct Fidelity {
     pub record: Vec<SpeedRun>,
     pub anchors: Vec<Anchor>,
     pub presets: Vec<PresetCheck>,
+    pub air: AirStudy,
 }
 
 /// Runs every part of the study.
@@ -683,6 +686,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let anchors = anchors(q)?;
     ctx.progress("shipped presets");
     let presets = presets(q)?;
+    let air = fidelity_air::compute(ctx)?;
     Ok(Fidelity {
         bounces,
         paper,
@@ -696,6 +700,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         record,
         anchors,
         presets,
+        air,
     })
 }
 
@@ -873,7 +878,8 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         c.push(shape_row(&format!("{} before", p.stem), &p.before));
         c.push(shape_row(&format!("{} after", p.stem), &p.after));
     }
-    ctx.write_csv("presets.csv", &c)
+    ctx.write_csv("presets.csv", &c)?;
+    fidelity_air::write_csvs(ctx, &f.air)
 }
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
@@ -980,7 +986,7 @@ fn verdict(ok: bool) -> &'static str {
 }
 
 /// Drops in the ensemble's median skip count as spin rises (ignoring a single one-skip wobble).
-fn spin_drops(runs: &[SpinRun]) -> usize {
+pub(super) fn spin_drops(runs: &[SpinRun]) -> usize {
     let mut best = 0usize;
     let mut drops = 0;
     let mut wobble_used = false;
@@ -1120,6 +1126,17 @@ fn lead_table(f: &Fidelity) -> String {
         format!("{tb}°, {} m/s (locked)", sig(ub, 3)),
         format!("{ta}°, {} m/s (free, 65 rev/s)", sig(ua, 3)),
     ]);
+    let rolls: Vec<String> = f
+        .air
+        .rolls
+        .iter()
+        .map(|r| format!("{}° at {} rev/s", sig(r.bank_deg.abs(), 2), sig(r.rev_per_s, 3)))
+        .collect();
+    rows.push(vec![
+        "a stone that stays long in the air rolls onto its side (Steiner, whole_throw.md §3)".into(),
+        "no air: a torque-free flight, no roll".into(),
+        format!("bank at the first touch (§7): {}", rolls.join(", ")),
+    ]);
     md_table(
         &["reference behaviour", "model before", "model after"],
         &rows,
@@ -1130,8 +1147,9 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     let mut s = String::from("# Whole-throw fidelity (issue 11)\n\n");
     s.push_str(
         "Before: the paper's high-spin limit as the presets used it (attitude locked, flat water, \
-         no buoyancy). After: the shipped presets' model (free rigid body, smooth surface of \
-         revolution, Archimedes on every wetted face, wavy contact on 2 cm columns). Same throws.\n\n",
+         no buoyancy, no air). After: the shipped presets' model (free rigid body, smooth surface \
+         of revolution, Archimedes on every wetted face, the air in flight, wavy contact on 2 cm \
+         columns). Same throws.\n\n",
     );
     if ctx.quick {
         s.push_str(&format!(
@@ -1146,6 +1164,7 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&record_section(f));
     s.push_str(&anchor_section(f));
     s.push_str(&preset_section(f));
+    s.push_str(&fidelity_air::section(&f.air, &f.spin));
     s
 }
 
@@ -1300,8 +1319,9 @@ fn spin_mechanism(f: &Fidelity) -> String {
         }
         s.push_str(
             " This is rigid-body mechanics under the model's forces; the references report no such \
-             fall (whole_throw.md §2), and we found no published effect to add on principle that \
-             removes it, so the count at high spin is reported as a finding, not tuned.\n",
+             fall (whole_throw.md §2). The one published effect added since, the air in flight \
+             (§7), changes the counts but not the fall, so the count at high spin is reported as a \
+             finding, not tuned.\n",
         );
     }
     s.push_str(&tilt_check_section(f));
@@ -1599,8 +1619,11 @@ fn curve_section(f: &Fidelity) -> String {
     s.push_str(&format!(
         "Side at touchdown {CURVE_AT}: {}. Tang et al. (2021) report a path curving towards the \
          spin, more with each bounce, with the Magnus effect dominating below ~18 rev/s; compare \
-         the sides and friction's share above (the model has no air-side Magnus force: its side \
-         force is water friction on the spinning patch).\n\n",
+         the sides and friction's share above. The model has no Magnus side force in the air \
+         (the disc model's coefficients do not depend on spin): in the air the spin \
+         acts through the gyroscope, the pitching moment rolling the stone (§7), and the banked \
+         lift then pushes it sideways; in the water its side force is friction on the spinning \
+         patch.\n\n",
         facts.sides(" rev/s")
     ));
     let rows: Vec<Vec<String>> = f

@@ -12,6 +12,7 @@
 pub mod accuracy;
 pub mod defaults;
 pub mod fidelity;
+pub mod fidelity_air;
 pub mod phase;
 pub mod plot;
 pub mod spin;
