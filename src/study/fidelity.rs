@@ -20,12 +20,12 @@ use crate::sim::metrics::{hovercraft, throw_shape, ThrowShape};
 use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
+use super::fidelity_air::{self, AirStudy};
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
 use super::style::law_name;
 use super::table::{md_table, sig, Csv, Val};
 use super::throws::clanet_disc;
-use super::fidelity_air::{self, AirStudy};
 use super::{check_cancel, Ctx, StudyError};
 
 /// The "no hovercraft" limits of issue 11: the last contact at most this share of the distance…
@@ -278,7 +278,11 @@ fn spin_tilts(quick: bool) -> Result<Vec<(f64, Vec<SpinRun>)>, StudyError> {
 }
 
 /// `p` at each spin of `revs`, each from the launch heights `offsets` apart.
-pub(super) fn spin_runs(p: &Preset, revs: &[f64], offsets: &[f64]) -> Result<Vec<SpinRun>, StudyError> {
+pub(super) fn spin_runs(
+    p: &Preset,
+    revs: &[f64],
+    offsets: &[f64],
+) -> Result<Vec<SpinRun>, StudyError> {
     let jobs: Vec<(f64, f64)> = revs
         .iter()
         .flat_map(|&rev| offsets.iter().map(move |&dz| (rev, dz)))
@@ -1130,10 +1134,17 @@ fn lead_table(f: &Fidelity) -> String {
         .air
         .rolls
         .iter()
-        .map(|r| format!("{}° at {} rev/s", sig(r.bank_deg.abs(), 2), sig(r.rev_per_s, 3)))
+        .map(|r| {
+            format!(
+                "{}° at {} rev/s",
+                sig(r.bank_deg.abs(), 2),
+                sig(r.rev_per_s, 3)
+            )
+        })
         .collect();
     rows.push(vec![
-        "a stone that stays long in the air rolls onto its side (Steiner, whole_throw.md §3)".into(),
+        "a stone that stays long in the air rolls onto its side (Steiner, whole_throw.md §3)"
+            .into(),
         "no air: a torque-free flight, no roll".into(),
         format!("bank at the first touch (§7): {}", rolls.join(", ")),
     ]);

@@ -124,7 +124,14 @@ fn first_roll(quick: bool, rev: f64) -> Result<FirstRoll, StudyError> {
 }
 
 pub fn write_csvs(ctx: &Ctx, a: &AirStudy) -> Result<(), StudyError> {
-    let mut c = Csv::new(&["preset", "air", "skips", "distance_m", "final_share", "lateral_m"]);
+    let mut c = Csv::new(&[
+        "preset",
+        "air",
+        "skips",
+        "distance_m",
+        "final_share",
+        "lateral_m",
+    ]);
     for p in &a.presets {
         for (air, t) in [("off", &p.off), ("on", &p.on)] {
             c.push(vec![
@@ -176,7 +183,13 @@ pub fn section(a: &AirStudy, sweep_on: &[SpinRun]) -> String {
         })
         .collect();
     s.push_str(&md_table(
-        &["preset, air", "skips", "distance (m)", "last contact", "sideways (m)"],
+        &[
+            "preset, air",
+            "skips",
+            "distance (m)",
+            "last contact",
+            "sideways (m)",
+        ],
         &rows,
     ));
     if let Some(r) = &a.record_steeper {
@@ -208,7 +221,12 @@ pub fn section(a: &AirStudy, sweep_on: &[SpinRun]) -> String {
         })
         .collect();
     s.push_str(&md_table(
-        &["spin (rev/s)", "first flight (s)", "bank at the touch (°)", "M t/(I₃ω) (°)"],
+        &[
+            "spin (rev/s)",
+            "first flight (s)",
+            "bank at the touch (°)",
+            "M t/(I₃ω) (°)",
+        ],
         &rows,
     ));
     s.push_str(&sweep_comparison(a, sweep_on));
@@ -261,6 +279,9 @@ mod tests {
             r.estimate_deg
         );
         let slow = first_roll(true, 40.0).unwrap();
-        assert!(slow.bank_deg.abs() > r.bank_deg.abs(), "less spin, more roll");
+        assert!(
+            slow.bank_deg.abs() > r.bank_deg.abs(),
+            "less spin, more roll"
+        );
     }
 }

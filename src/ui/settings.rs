@@ -912,46 +912,53 @@ fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     }
     ui.end_row();
     if let Some(air) = physics.air.as_mut() {
-        let rows: [(&str, &str, &str, &mut f64, std::ops::RangeInclusive<f64>); 5] = [
+        type AirRow<'a> = (&'a str, &'a str, &'a str, &'a mut f64, f64, &'a str);
+        let rows: [AirRow; 5] = [
             (
                 "air.density",
                 "Air density",
-                "ρ of the air (kg/m³)",
+                "ρ of the air",
                 &mut air.density,
-                0.0..=5.0,
+                5.0,
+                " kg/m³",
             ),
             (
                 "air.lift slope",
                 "C_Lα",
                 "Lift per radian of attack",
                 &mut air.lift_slope,
-                0.0..=5.0,
+                5.0,
+                " /rad",
             ),
             (
                 "air.drag zero",
                 "C_D0",
                 "Drag at zero attack",
                 &mut air.drag_zero,
-                0.0..=1.0,
+                1.0,
+                "",
             ),
             (
                 "air.drag slope",
                 "C_Dα",
                 "Drag per radian² of attack",
                 &mut air.drag_slope,
-                0.0..=5.0,
+                5.0,
+                " /rad²",
             ),
             (
                 "air.moment slope",
                 "C_Mα",
                 "Pitching moment per radian of attack (nose up: the centre of pressure ahead)",
                 &mut air.moment_slope,
-                -2.0..=2.0,
+                2.0,
+                " /rad",
             ),
         ];
-        for (key, label, tip, value, range) in rows {
+        for (key, label, tip, value, max, unit) in rows {
+            let min = if key == "air.moment slope" { -max } else { 0.0 };
             c |= row(ui, marks, key, label, tip, |ui| {
-                ui.add(slider(value, range))
+                ui.add(slider(value, min..=max).suffix(unit))
             });
         }
     }
