@@ -1305,7 +1305,8 @@ fn spin_mechanism(f: &Fidelity) -> String {
         s.push_str(&clanet_turn_words(f));
         let shallow = f.locked_tilts.first();
         let launch = f.locked_tilts.iter().find(|l| l.tilt_deg == 20.0);
-        if let (Some(lo), Some(l20)) = (shallow, launch) {
+        let lowered = a.tilt_after_first < 0.6 * b.tilt_after_first;
+        if let (Some(lo), Some(l20), true) = (shallow, launch, lowered) {
             if lo.shape.skips > l20.shape.skips {
                 s.push_str(&format!(
                     " A shallow tilt held through the run is worth more skips on the near field than \
@@ -1513,7 +1514,7 @@ fn spin_section(f: &Fidelity) -> String {
 const CURVE_AT: usize = 3;
 const CURVE_TOUCHDOWNS: usize = 12;
 
-/// The flat-water curve: its side against spin, friction's share, the mirror check.
+/// The flat-water curve: its side against spin, friction's part, the mirror check.
 pub struct CurveFacts {
     /// (rev/s, y at CURVE_AT with friction, without friction).
     pub by_spin: Vec<(f64, f64, f64)>,
@@ -1587,8 +1588,10 @@ fn curve_section(f: &Fidelity) -> String {
          symmetry), spin > 0 counter-clockwise seen from above, so the leading edge moves towards \
          +y. Friction on the spinning wetted patch is the model's Magnus-like side force (the patch \
          slides sideways at ωR against the water); what is left without it is the gyroscopic part: \
-         the lift's torque about the centre of mass turns the spinning axis sideways (a bank), and \
-         the banked lift pushes sideways. Friction's share is 1 − y(off)/y(on) at touchdown {CURVE_AT}.\n\n"
+         a moment turns the spinning axis sideways (a bank) — the air's pitching moment in flight \
+         (§7), the lift's torque about the centre of mass in contact — and the banked lift pushes \
+         sideways. Friction's part is y(on) − y(off) at touchdown {CURVE_AT}; the two parts may \
+         have opposite signs.\n\n"
     ));
     let facts = curve_facts(f);
     let rows: Vec<Vec<String>> = f
@@ -1603,9 +1606,7 @@ fn curve_section(f: &Fidelity) -> String {
                 sig(r.lateral.last().map_or(f64::NAN, |p| p.1), 3),
                 r.lateral.len().to_string(),
                 off.map_or("n/a".into(), |b| sig(b.2, 3)),
-                off.map_or("n/a".into(), |b| {
-                    format!("{:.0} %", 100.0 * (1.0 - b.2 / b.1))
-                }),
+                off.map_or("n/a".into(), |b| sig(b.1 - b.2, 3)),
             ]
         })
         .collect();
@@ -1616,7 +1617,7 @@ fn curve_section(f: &Fidelity) -> String {
             "y at the last (m)",
             "touchdowns",
             &format!("no friction: y at {CURVE_AT} (m)"),
-            "friction's share",
+            "friction's part (m)",
         ],
         &rows,
     ));
@@ -1630,7 +1631,7 @@ fn curve_section(f: &Fidelity) -> String {
     s.push_str(&format!(
         "Side at touchdown {CURVE_AT}: {}. Tang et al. (2021) report a path curving towards the \
          spin, more with each bounce, with the Magnus effect dominating below ~18 rev/s; compare \
-         the sides and friction's share above. The model has no Magnus side force in the air \
+         the sides and friction's part above. The model has no Magnus side force in the air \
          (the disc model's coefficients do not depend on spin): in the air the spin \
          acts through the gyroscope, the pitching moment rolling the stone (§7), and the banked \
          lift then pushes it sideways; in the water its side force is friction on the spinning \
