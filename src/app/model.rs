@@ -19,7 +19,8 @@ use crate::preset;
 use crate::render::build::{self, aim_preview, framing_of, ghost_lines, side_guides, thinned};
 use crate::render::camera::{camera_for, Framing, ViewMode};
 use crate::render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
-use crate::sim::params::{Integrator, Launch, Preset};
+use crate::sim::params::{Integrator, Launch, Preset, Rotation};
+use crate::sim::stone::reported_attitude;
 use crate::sim::{Outcome, Simulation, StepSample, TickProgress};
 use crate::ui::{
     contact_kind, slide_distance, Action, ContactKind, FrameTiming, Message, Phase, PlotSeries,
@@ -1147,6 +1148,16 @@ impl Model {
             distance: self.sim.distance(),
             speed: s.velocity.length(),
             height: s.position.z,
+            attitude_deg: {
+                let a = reported_attitude(s.orientation, s.velocity);
+                [a[0], a[1]]
+            },
+            spin_rev_s: (self.sim.preset().physics.rotation == Rotation::Free).then(|| {
+                self.sim
+                    .angular_velocity()
+                    .dot(s.orientation * glam::DVec3::Z)
+                    / std::f64::consts::TAU
+            }),
             in_contact: self.sim.in_contact(),
             wetted_area: if self.sim.in_contact() {
                 f.wetted_area

@@ -1377,16 +1377,28 @@ mod tests {
         let end = *vacuum.last().unwrap();
         assert!(end.z.abs() < 1e-9, "ends on the water: {end}");
         let t = (2.0 * 0.3 / p.physics.gravity).sqrt();
-        assert!((end.x - 12.0 * t).abs() < 1e-9, "the parabola lands at {}", 12.0 * t);
+        assert!(
+            (end.x - 12.0 * t).abs() < 1e-9,
+            "the parabola lands at {}",
+            12.0 * t
+        );
         p.physics.air = Some(air::AirParams::default());
         let with_air = launch_arc(&p, &stone, 0.01, 5.0);
         let end_air = *with_air.last().unwrap();
         assert!(end_air.z.abs() < 1e-9);
-        assert!(end_air.x > end.x, "lift carries it farther: {} vs {}", end_air.x, end.x);
+        assert!(
+            end_air.x > end.x,
+            "lift carries it farther: {} vs {}",
+            end_air.x,
+            end.x
+        );
         let sim = Simulation::new(&p).unwrap();
         let direct = sim.fly(&launch_state(&p, &stone), 0.1);
         let on_arc = with_air[10];
-        assert!((direct.position - on_arc).length() < 1e-6, "{direct:?} vs {on_arc}");
+        assert!(
+            (direct.position - on_arc).length() < 1e-6,
+            "{direct:?} vs {on_arc}"
+        );
     }
 
     /// With wavy contact off the stone meets the plane z = 0, so leaving the water at rest changes

@@ -160,6 +160,10 @@ pub struct Readouts {
     pub speed: f64,
     /// Height of the centre of mass (m).
     pub height: f64,
+    /// Tilt and bank to the path (°), as the contact table reports them.
+    pub attitude_deg: [f64; 2],
+    /// Spin about the stone's own axis (rev/s); `None` with the attitude locked.
+    pub spin_rev_s: Option<f64>,
     pub in_contact: bool,
     /// Wetted area at the last step (m²).
     pub wetted_area: f64,

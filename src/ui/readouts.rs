@@ -82,6 +82,22 @@ pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
             ui.label("Height");
             ui.monospace(format!("{:+.4} m", r.height));
             ui.end_row();
+            ui.label("Attitude").on_hover_text(
+                "Tilt (nose up) and bank (roll) to the path. In flight the air's pitching moment \
+                 rolls a spinning stone: less spin, more roll",
+            );
+            ui.monospace(format!(
+                "tilt {:+.1}°  bank {:+.1}°",
+                r.attitude_deg[0], r.attitude_deg[1]
+            ));
+            ui.end_row();
+            ui.label("Spin")
+                .on_hover_text("About the stone's own axis; locked: the attitude is held");
+            ui.monospace(match r.spin_rev_s {
+                Some(w) => format!("{w:.2} rev/s"),
+                None => "locked".to_owned(),
+            });
+            ui.end_row();
             ui.label("Water");
             if r.in_contact {
                 ui.label(
