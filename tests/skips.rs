@@ -51,6 +51,10 @@ fn impulse_per_mass(c: &ContactEvent, g: f64) -> f64 {
 fn swell_grazes_are_listed_but_not_counted() {
     let mut p = shipped("default");
     p.water.swell = Some(Swell::default());
+    // In a vacuum between contacts, as the rule was written: a skip then always shows an apex. With
+    // the air (shipped) the lift can carry a stone that leaves the water still descending, slowly,
+    // to its next touch without one, so "one skip per apex" is a fact of vacuum flight only.
+    p.physics.air = None;
     assert!(p.water.wavy_contact);
     let g = p.physics.gravity;
     let (contacts, skips, hops) = run(&p);
@@ -98,6 +102,9 @@ fn flat_water_counts_every_exit() {
     for stem in ["default", "record_throw", "paper"] {
         let mut p = shipped(stem);
         p.water.wavy_contact = false;
+        // The vacuum flight the brushing rim below was found in (the air rolls the stone in flight
+        // and changes which contacts happen; the rule under test is the same).
+        p.physics.air = None;
         let (contacts, skips, _) = run(&p);
         assert!(skips >= 2, "{stem}: {skips} skips");
         assert!(

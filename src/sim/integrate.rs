@@ -98,6 +98,8 @@ pub struct Dynamics<'a> {
     pub gravity: f64,
     pub rotation: Rotation,
     pub surface: &'a dyn Surface,
+    /// Whether a `record` evaluation stores the face loads (false when no water reads them).
+    pub record_loads: bool,
 }
 
 impl Dynamics<'_> {
@@ -129,7 +131,7 @@ impl Dynamics<'_> {
             &pose,
             self.surface,
             scratch,
-            record,
+            record && self.record_loads,
         );
         let mut d = Deriv {
             dx: s.velocity,

@@ -770,7 +770,7 @@ impl Simulation {
                 ));
                 return StoneProgress::Reached;
             }
-            if step.contact {
+            if step.contact && self.water.is_some() && self.step_water {
                 let j = water_impulse(
                     self.stone.mass,
                     self.preset.physics.gravity,
@@ -806,6 +806,7 @@ impl Simulation {
                 gravity: physics.gravity,
                 rotation: physics.rotation,
                 surface: &surface,
+                record_loads: self.water.is_some() && self.step_water,
             },
             integrator: physics.integrator,
             tolerance: physics.tolerance,
