@@ -142,9 +142,12 @@ pub fn preset(u: &mut Unstructured) -> Result<Preset> {
 /// The largest force evaluations per simulated second seen in this process (f64 bits).
 static WORST: AtomicU64 = AtomicU64::new(0);
 
-/// The stepper's own bound on the work of one tick: at most 10⁶ steps (its guard), each at most
-/// a Dormand–Prince attempt (7 evaluations) plus the event location's (a few more).
-const MAX_EVALS_PER_TICK: u64 = 10 * 1_000_000;
+/// The stepper's own bound on the work of one tick: its evaluation guard
+/// ([`stoneskip::sim::MAX_EVALS_PER_TICK`], checked before each step) plus the last step's own work
+/// (at most ~180 shrinking attempts of 6 evaluations from a 20 ms tick to the 10⁻¹⁰ s floor, and
+/// the event location's few more). The step guard alone bounded nothing: a step may follow many
+/// rejected attempts (2·10⁷ evaluations in one tick were found by the headless soak).
+const MAX_EVALS_PER_TICK: u64 = stoneskip::sim::MAX_EVALS_PER_TICK + 10_000;
 
 /// Runs the target on one input; panics on a finding.
 pub fn run(data: &[u8]) {

@@ -158,6 +158,12 @@ pub const OPEN_WATER_LIMIT: f64 = 1000.0;
 /// happen with a positive minimum step, kept so a bug cannot hang the program).
 pub const MAX_STEPS_PER_TICK: u32 = 1_000_000;
 
+/// Most force evaluations one tick may use before the run is declared diverged: the work bound
+/// the step guard alone does not give (each accepted step may follow up to ~150 rejected attempts
+/// as the step shrinks to its floor; the simulate fuzz harness found ticks of 2·10⁷ evaluations,
+/// minutes of CPU, at tolerances near 10⁻¹⁰). At ~10 µs an evaluation this is about 2 minutes.
+pub const MAX_EVALS_PER_TICK: u64 = 10_000_000;
+
 /// One face's impulse on the water over an accepted step, spread over a square of the face's wetted
 /// footprint (Newton's third law of the face force, design.md §5): a footprint rather than a point, so
 /// the forcing, and the rings, converge as the water's cells shrink below the stone's wetted area.
@@ -325,6 +331,8 @@ pub struct Simulation {
     motion: Motion,
     /// The tick begun by [`Simulation::tick_until`] and not yet finished (it yielded inside).
     open_tick: Option<OpenTick>,
+    /// [`MAX_EVALS_PER_TICK`] (a field so a unit test can reach it cheaply).
+    max_evals_per_tick: u64,
 }
 
 /// A tick in progress: its target time, its length and its step guard, so that the next call of
@@ -335,6 +343,8 @@ struct OpenTick {
     dt: f64,
     /// Steps taken in this tick so far (against [`MAX_STEPS_PER_TICK`]).
     steps: u32,
+    /// The run's force evaluations when the tick began (against [`MAX_EVALS_PER_TICK`]).
+    evals_start: u64,
 }
 
 /// How far a call of [`Simulation::tick_until`] got.
@@ -402,6 +412,7 @@ impl Simulation {
             stone,
             water,
             open_tick: None,
+            max_evals_per_tick: MAX_EVALS_PER_TICK,
         };
         sim.refresh_water_max();
         let clearance = sim.clearance(&state);
@@ -590,11 +601,11 @@ impl Simulation {
                 t_end: self.motion.time + dt,
                 dt,
                 steps: 0,
+                evals_start: self.motion.force_evals,
             }
         });
         if !self.is_finished() {
-            if let StoneProgress::Yielded(steps) =
-                self.advance_stone(tick.t_end, tick.steps, on_step, should_yield)
+            if let StoneProgress::Yielded(steps) = self.advance_stone(&tick, on_step, should_yield)
             {
                 self.open_tick = Some(OpenTick { steps, ..tick });
                 // The water takes the impulses only when it steps, at the tick's end, and nothing
@@ -736,12 +747,12 @@ impl Simulation {
     /// before; after every step that leaves the tick unfinished, yields if `should_yield` says so.
     fn advance_stone(
         &mut self,
-        t_end: f64,
-        steps: u32,
+        tick: &OpenTick,
         on_step: &mut dyn FnMut(&StepSample),
         should_yield: &dyn Fn((u64, u64)) -> bool,
     ) -> StoneProgress {
-        let mut guard = steps;
+        let t_end = tick.t_end;
+        let mut guard = tick.steps;
         let mut first = true;
         while self.motion.time < t_end && self.motion.outcome.is_none() {
             if !first && should_yield((self.motion.steps, self.motion.force_evals)) {
@@ -753,6 +764,15 @@ impl Simulation {
                 self.diverge(format!(
                     "more than {MAX_STEPS_PER_TICK} steps in one tick at t = {:.6} s (a runaway step loop)",
                     self.motion.time
+                ));
+                return StoneProgress::Reached;
+            }
+            let evals = self.motion.force_evals - tick.evals_start;
+            if evals > self.max_evals_per_tick {
+                self.diverge(format!(
+                    "more than {} force evaluations in one tick at t = {:.6} s (after {guard} \
+                     steps; a looser tolerance or a coarser mesh is cheaper)",
+                    self.max_evals_per_tick, self.motion.time
                 ));
                 return StoneProgress::Reached;
             }
@@ -1364,6 +1384,47 @@ pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A tick's work is bounded by evaluations, not only by steps: the fuzz-found costly preset
+    /// (a 36 cm disc at tolerance 1.3e-10, found by the headless soak: 2.3·10⁷ evaluations in one
+    /// tick) with the guard lowered so the test is quick ends `diverged` with the reason, its tick
+    /// within the guard plus one step's attempts.
+    #[test]
+    fn a_tick_past_its_evaluation_guard_is_reported_diverged() {
+        let mut p = Preset::default();
+        p.stone.shape = params::Shape::Disk {
+            radius: 0.181,
+            thickness: 0.0764,
+        };
+        p.stone.mass = 0.449;
+        p.stone.segments = 79;
+        p.launch.position = [0.0, 0.0, 0.17];
+        p.launch.velocity = [13.68, -3.57, -10.22];
+        p.launch.attitude.tilt_deg = 19.7;
+        p.launch.attitude.bank_deg = 56.3;
+        p.physics.force_law = params::ForceLaw::Bocquet;
+        p.physics.tolerance = 1.29e-10;
+        p.physics.dt = 4.06e-4;
+        p.physics.max_time = 0.0588;
+        p.water.enabled = false;
+        let mut sim = Simulation::new(&p).unwrap();
+        sim.max_evals_per_tick = 20_000;
+        let mut worst = 0;
+        while !sim.is_finished() {
+            let before = sim.cost().1;
+            sim.tick();
+            worst = worst.max(sim.cost().1 - before);
+        }
+        assert_eq!(
+            sim.outcome(),
+            Some(Outcome::Diverged),
+            "{:?}",
+            sim.summary()
+        );
+        let why = sim.diverged_reason().unwrap();
+        assert!(why.contains("force evaluations in one tick"), "{why}");
+        assert!(worst <= 20_000 + 10_000, "{worst} evaluations in a tick");
+    }
 
     /// The aim preview follows the run's own flight: a vacuum parabola without air, a longer arc
     /// with the lift of a stone tilted into the flow, each ending on the water where the run's
