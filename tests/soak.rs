@@ -5,7 +5,9 @@
 //! reproducible from its index.
 //!
 //! `cargo test --release --test soak -- --ignored --nocapture`; `STONESKIP_SOAK_THROWS=N` (default
-//! 10⁵) and `STONESKIP_SOAK_SECONDS=S` (stop early after S seconds, reporting the count reached).
+//! 10⁵), `STONESKIP_SOAK_START=I` (the first input's index: disjoint ranges can run side by side, or
+//! one failure be replayed) and `STONESKIP_SOAK_SECONDS=S` (stop early after S seconds, reporting
+//! the count reached).
 //! A short version runs in the ordinary test suite.
 
 use std::time::Instant;
@@ -44,8 +46,8 @@ struct Tally {
     seconds: f64,
 }
 
-/// Runs inputs `0..count` (or until `budget_s` seconds have passed).
-fn soak(count: u64, budget_s: f64) -> Tally {
+/// Runs inputs `first..first + count` (or until `budget_s` seconds have passed).
+fn soak(first: u64, count: u64, budget_s: f64) -> Tally {
     let start = Instant::now();
     let mut t = Tally {
         inputs: 0,
@@ -53,7 +55,7 @@ fn soak(count: u64, budget_s: f64) -> Tally {
         failures: Vec::new(),
         seconds: 0.0,
     };
-    for i in 0..count {
+    for i in first..first.saturating_add(count) {
         if start.elapsed().as_secs_f64() > budget_s {
             break;
         }
@@ -94,7 +96,7 @@ fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
 
 #[test]
 fn random_throws_end_cleanly_short() {
-    let t = soak(300, f64::INFINITY);
+    let t = soak(0, 300, f64::INFINITY);
     assert!(t.failures.is_empty(), "{:?}", t.failures);
     // Most draws are valid presets (the joint constraints refuse a few shapes): a generator that
     // stopped making throws would pass vacuously.
@@ -104,9 +106,10 @@ fn random_throws_end_cleanly_short() {
 #[test]
 #[ignore = "the long headless soak: run it by hand (see the module doc)"]
 fn random_throws_end_cleanly_long() {
+    let first = env_or("STONESKIP_SOAK_START", 0u64);
     let count = env_or("STONESKIP_SOAK_THROWS", 100_000u64);
     let budget = env_or("STONESKIP_SOAK_SECONDS", f64::INFINITY);
-    let t = soak(count, budget);
+    let t = soak(first, count, budget);
     println!(
         "headless soak: {} inputs, {} throws simulated, {} failures, {:.0} s ({:.1} ms a throw)",
         t.inputs,
