@@ -100,10 +100,6 @@ impl Air {
         }
     }
 
-    pub fn params(&self) -> &AirParams {
-        &self.params
-    }
-
     /// The air's load on a stone moving at `velocity` (still air) with its symmetry axis along
     /// `orientation · ẑ`.
     pub fn load(&self, velocity: DVec3, orientation: DQuat) -> AirLoad {

@@ -159,9 +159,10 @@ pub const OPEN_WATER_LIMIT: f64 = 1000.0;
 pub const MAX_STEPS_PER_TICK: u32 = 1_000_000;
 
 /// Most force evaluations one tick may use before the run is declared diverged: the work bound
-/// the step guard alone does not give (each accepted step may follow up to ~150 rejected attempts
-/// as the step shrinks to its floor; the simulate fuzz harness found ticks of 2·10⁷ evaluations,
-/// minutes of CPU, at tolerances near 10⁻¹⁰). At ~10 µs an evaluation this is about 2 minutes.
+/// the step guard alone does not give (each accepted step may follow up to ~180 rejected attempts
+/// as the step shrinks from the tick to its 10⁻¹⁰ s floor; the headless soak, through the simulate
+/// fuzz harness, found ticks of 2·10⁷ evaluations, minutes of CPU, at tolerances near 10⁻¹⁰,
+/// finding S2). At ~10 µs an evaluation this is about 2 minutes.
 pub const MAX_EVALS_PER_TICK: u64 = 10_000_000;
 
 /// One face's impulse on the water over an accepted step, spread over a square of the face's wetted
@@ -790,7 +791,7 @@ impl Simulation {
                 ));
                 return StoneProgress::Reached;
             }
-            if step.contact && self.water.is_some() && self.step_water {
+            if step.contact && self.water_takes_loads() {
                 let j = water_impulse(
                     self.stone.mass,
                     self.preset.physics.gravity,
@@ -826,7 +827,7 @@ impl Simulation {
                 gravity: physics.gravity,
                 rotation: physics.rotation,
                 surface: &surface,
-                record_loads: self.water.is_some() && self.step_water,
+                record_loads: self.water_takes_loads(),
             },
             integrator: physics.integrator,
             tolerance: physics.tolerance,
@@ -905,6 +906,11 @@ impl Simulation {
         if left {
             self.finish(Outcome::LeftDomain);
         }
+    }
+
+    /// Whether a lake will take the stone's face loads (there is one, and it steps).
+    fn water_takes_loads(&self) -> bool {
+        self.water.is_some() && self.step_water
     }
 
     /// The flight from `s` over `t` (with the air when the preset has it).

@@ -690,7 +690,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let anchors = anchors(q)?;
     ctx.progress("shipped presets");
     let presets = presets(q)?;
-    let air = fidelity_air::compute(ctx)?;
+    let air = fidelity_air::compute(ctx, &presets)?;
     Ok(Fidelity {
         bounces,
         paper,

@@ -10,7 +10,9 @@ use crate::sim::air::Air;
 use crate::sim::metrics::ThrowShape;
 use crate::sim::stone::{orientation_from_attitude, Stone};
 
-use super::fidelity::{ensemble_offsets, shape, shipped_for, spin_revs, spin_runs, SpinRun};
+use super::fidelity::{
+    ensemble_offsets, shape, shipped_for, spin_revs, spin_runs, PresetCheck, SpinRun,
+};
 use super::table::{md_table, sig, Csv};
 use super::{Ctx, StudyError};
 
@@ -56,22 +58,22 @@ fn roll_spins(quick: bool) -> Vec<f64> {
     }
 }
 
-pub fn compute(ctx: &Ctx) -> Result<AirStudy, StudyError> {
+/// §7's runs; `shipped` holds the shipped presets' runs as shipped (air on), measured in §6, so
+/// only the air-off runs are new here.
+pub fn compute(ctx: &Ctx, shipped: &[PresetCheck]) -> Result<AirStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the air in flight");
-    let stems: Vec<&'static str> = PEBBLES
+    let pebbles: Vec<&PresetCheck> = PEBBLES
         .iter()
-        .copied()
-        .filter(|s| !q || *s != "record_throw")
+        .filter_map(|stem| shipped.iter().find(|c| c.stem == *stem))
         .collect();
-    let presets = super::fidelity::par_map(stems, |stem| {
-        let p = shipped_for(stem, q)?;
-        let mut off = p.clone();
+    let presets = super::fidelity::par_map(pebbles, |check| {
+        let mut off = shipped_for(check.stem, q)?;
         off.physics.air = None;
         Ok(AirPreset {
-            stem,
+            stem: check.stem,
             off: shape(&off)?.1,
-            on: shape(&p)?.1,
+            on: check.after,
         })
     })?;
     let mut p = shipped_for("default", q)?;

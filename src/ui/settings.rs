@@ -912,14 +912,21 @@ fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     }
     ui.end_row();
     if let Some(air) = physics.air.as_mut() {
-        type AirRow<'a> = (&'a str, &'a str, &'a str, &'a mut f64, f64, &'a str);
+        type AirRow<'a> = (
+            &'a str,
+            &'a str,
+            &'a str,
+            &'a mut f64,
+            std::ops::RangeInclusive<f64>,
+            &'a str,
+        );
         let rows: [AirRow; 5] = [
             (
                 "air.density",
                 "Air density",
                 "ρ of the air",
                 &mut air.density,
-                5.0,
+                0.0..=5.0,
                 " kg/m³",
             ),
             (
@@ -927,7 +934,7 @@ fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 "C_Lα",
                 "Lift per radian of attack",
                 &mut air.lift_slope,
-                5.0,
+                0.0..=5.0,
                 " /rad",
             ),
             (
@@ -935,7 +942,7 @@ fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 "C_D0",
                 "Drag at zero attack",
                 &mut air.drag_zero,
-                1.0,
+                0.0..=1.0,
                 "",
             ),
             (
@@ -943,7 +950,7 @@ fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 "C_Dα",
                 "Drag per radian² of attack",
                 &mut air.drag_slope,
-                5.0,
+                0.0..=5.0,
                 " /rad²",
             ),
             (
@@ -951,14 +958,13 @@ fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 "C_Mα",
                 "Pitching moment per radian of attack (nose up: the centre of pressure ahead)",
                 &mut air.moment_slope,
-                2.0,
+                -2.0..=2.0,
                 " /rad",
             ),
         ];
-        for (key, label, tip, value, max, unit) in rows {
-            let min = if key == "air.moment slope" { -max } else { 0.0 };
+        for (key, label, tip, value, range, unit) in rows {
             c |= row(ui, marks, key, label, tip, |ui| {
-                ui.add(slider(value, min..=max).suffix(unit))
+                ui.add(slider(value, range).suffix(unit))
             });
         }
     }
