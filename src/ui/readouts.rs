@@ -86,9 +86,12 @@ pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
                 "Tilt (nose up) and bank (roll) to the path. In flight the air's pitching moment \
                  rolls a spinning stone: less spin, more roll",
             );
+            // Rounded first, so a bank of −0.01° reads +0.0°, not −0.0°.
+            let tenth = |x: f64| (x * 10.0).round() / 10.0 + 0.0;
             ui.monospace(format!(
                 "tilt {:+.1}°  bank {:+.1}°",
-                r.attitude_deg[0], r.attitude_deg[1]
+                tenth(r.attitude_deg[0]),
+                tenth(r.attitude_deg[1])
             ));
             ui.end_row();
             ui.label("Spin")
