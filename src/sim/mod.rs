@@ -40,7 +40,7 @@ use integrate::{
 };
 use params::{Integrator, ParamError, Physics, Preset, Rotation, Shape};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
-use water::WaterGrid;
+use water::{EtaPatch, WaterGrid};
 
 /// Errors of building or driving a simulation.
 #[derive(Debug, thiserror::Error)]
@@ -247,15 +247,28 @@ enum SurfaceRef<'a> {
     Flat,
     Water {
         grid: &'a WaterGrid,
+        /// The columns within the stone's reach this tick, copied once (read many times a step).
+        patch: &'a EtaPatch,
         max: f64,
         slope: f64,
     },
 }
 
 impl<'a> SurfaceRef<'a> {
-    fn new(water: &'a Option<WaterGrid>, wavy: bool, max: f64, slope: f64) -> Self {
+    fn new(
+        water: &'a Option<WaterGrid>,
+        patch: &'a EtaPatch,
+        wavy: bool,
+        max: f64,
+        slope: f64,
+    ) -> Self {
         match (water, wavy) {
-            (Some(grid), true) => SurfaceRef::Water { grid, max, slope },
+            (Some(grid), true) => SurfaceRef::Water {
+                grid,
+                patch,
+                max,
+                slope,
+            },
             _ => SurfaceRef::Flat,
         }
     }
@@ -273,7 +286,7 @@ impl Surface for SurfaceRef<'_> {
     fn height(&self, x: f64, y: f64) -> f64 {
         match self {
             SurfaceRef::Flat => FlatSurface.height(x, y),
-            SurfaceRef::Water { grid, .. } => grid.surface_height(x, y),
+            SurfaceRef::Water { grid, patch, .. } => grid.surface_height_in(Some(patch), x, y),
         }
     }
     fn max_height(&self) -> f64 {
@@ -325,6 +338,8 @@ pub struct Simulation {
     water_max_eta: f64,
     /// Upper bound of the water surface's slope (wavy contact), for the flight's clearance bound.
     water_max_slope: f64,
+    /// η of the columns within the stone's reach this tick (wavy contact), refreshed with the bounds.
+    water_patch: EtaPatch,
     volume_initial: f64,
     /// Whether `tick` advances the water (and gives it the stone's impulses).
     step_water: bool,
@@ -390,6 +405,7 @@ impl Simulation {
             preset: preset.clone(),
             water_max_eta: 0.0,
             water_max_slope: 0.0,
+            water_patch: EtaPatch::default(),
             volume_initial,
             step_water: true,
             launch_position: state.position,
@@ -679,7 +695,7 @@ impl Simulation {
             .map_or(self.preset.physics.dt, |t| t.dt.max(self.preset.physics.dt));
         let speed = s.velocity.length() + self.preset.physics.gravity * dt;
         let reach = self.stone.bounding_radius + 2.0 * speed * dt + 2.0 * w.cell();
-        let (m, slope) = local_bounds(w, s.position.x, s.position.y, reach);
+        let (m, slope) = local_bounds(w, &mut self.water_patch, s.position.x, s.position.y, reach);
         self.water_max_eta = if m.is_finite() { m } else { 0.0 };
         self.water_max_slope = if slope.is_finite() {
             slope
@@ -691,6 +707,7 @@ impl Simulation {
     fn surface(&self) -> SurfaceRef<'_> {
         SurfaceRef::new(
             &self.water,
+            &self.water_patch,
             self.preset.water.wavy_contact,
             self.water_max_eta,
             self.water_max_slope,
@@ -816,6 +833,7 @@ impl Simulation {
         let physics = self.preset.physics;
         let surface = SurfaceRef::new(
             &self.water,
+            &self.water_patch,
             self.preset.water.wavy_contact,
             self.water_max_eta,
             self.water_max_slope,
@@ -1342,8 +1360,8 @@ fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
 
 /// The highest η (−∞ when no column lies within `reach` of (x, y)) and the largest
 /// |Δη|/l between neighbouring columns there, over the columns whose centres lie within `reach`
-/// (m) of (x, y) in x and y, and one more on each side.
-fn local_bounds(w: &WaterGrid, x: f64, y: f64, reach: f64) -> (f64, f64) {
+/// (m) of (x, y) in x and y, and one more on each side; those columns are left in `patch`.
+fn local_bounds(w: &WaterGrid, patch: &mut EtaPatch, x: f64, y: f64, reach: f64) -> (f64, f64) {
     let [ox, oy] = w.origin();
     let l = w.cell();
     let span = |c: f64, o: f64, n: usize| {
@@ -1354,8 +1372,10 @@ fn local_bounds(w: &WaterGrid, x: f64, y: f64, reach: f64) -> (f64, f64) {
     let (x0, x1, okx) = span(x, ox, w.nx());
     let (y0, y1, oky) = span(y, oy, w.ny());
     if !(okx && oky) {
+        w.fill_patch(patch, (1, 0), (1, 0));
         return (f64::NEG_INFINITY, 0.0);
     }
+    w.fill_patch(patch, (x0, x1), (y0, y1));
     // Beyond the grid the surface is at rest (η = 0): count it when the reach extends past an edge.
     let inside = |c: f64, o: f64, n: usize| c - reach > o && c + reach < o + n as f64 * l;
     let mut m = if inside(x, ox, w.nx()) && inside(y, oy, w.ny()) {
@@ -1366,13 +1386,13 @@ fn local_bounds(w: &WaterGrid, x: f64, y: f64, reach: f64) -> (f64, f64) {
     let (mut sx, mut sy) = (0.0f64, 0.0f64);
     for iy in y0..=y1 {
         for ix in x0..=x1 {
-            let e = w.eta(ix, iy);
+            let e = patch.at(ix, iy);
             m = m.max(e);
             if ix > x0 {
-                sx = sx.max((e - w.eta(ix - 1, iy)).abs());
+                sx = sx.max((e - patch.at(ix - 1, iy)).abs());
             }
             if iy > y0 {
-                sy = sy.max((e - w.eta(ix, iy - 1)).abs());
+                sy = sy.max((e - patch.at(ix, iy - 1)).abs());
             }
         }
     }

@@ -90,10 +90,15 @@ impl<T: Num> Scratch<T> {
 
 impl<T: Real> Fields<T> {
     /// One step over the chunks (see [`WaterGrid::step`]).
+    /// One step over the rows of `chunks` (contiguous, ascending) and the padded columns `cols`
+    /// ([c0, c1) ⊆ [1, nx + 1)); everything outside must be at rest with its neighbours (the grid's
+    /// active window guarantees it), so it keeps its values.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn step(
         &mut self,
         co: &Coeffs,
         chunks: &[(usize, usize)],
+        cols: (usize, usize),
         row_bed: &[bool],
         row_press: &[bool],
         has_press: bool,
@@ -108,10 +113,11 @@ impl<T: Real> Fields<T> {
         }
         // Each chunk keeps a copy of the old rows it reads beyond its ends (two each side): the
         // neighbouring chunks overwrite them in place.
+        let whole = chunks.len() == 1 && chunks[0] == (0, co.ny);
         for (&(r0, r1), s) in chunks
             .iter()
             .zip(self.scratch.iter_mut())
-            .skip(usize::from(chunks.len() <= 1))
+            .skip(usize::from(whole))
         {
             let lo = r0.saturating_sub(2);
             s.lo[(lo + 2 - r0) * stride..].copy_from_slice(&self.cur[lo * stride..r0 * stride]);
@@ -124,14 +130,19 @@ impl<T: Real> Fields<T> {
             row_bed,
             row_press,
         };
-        if chunks.len() <= 1 {
+        let Some(&(first, _)) = chunks.first() else {
+            return;
+        };
+        if chunks.len() == 1 {
+            let (r0, r1) = chunks[0];
             if let Some(s) = self.scratch.first_mut() {
-                run_chunk(co, &kc, &input, 0, co.ny, &mut self.cur, s);
+                let own = &mut self.cur[r0 * stride..r1 * stride];
+                run_chunk(co, &kc, &input, (r0, r1), cols, own, s);
             }
         } else {
             let mut parts: Vec<(usize, usize, &mut [T], &mut Scratch<T>)> =
                 Vec::with_capacity(chunks.len());
-            let mut rest: &mut [T] = &mut self.cur;
+            let mut rest: &mut [T] = &mut self.cur[first * stride..];
             for (&(r0, r1), s) in chunks.iter().zip(self.scratch.iter_mut()) {
                 let (head, tail) = rest.split_at_mut((r1 - r0) * stride);
                 parts.push((r0, r1, head, s));
@@ -139,7 +150,7 @@ impl<T: Real> Fields<T> {
             }
             parts
                 .into_par_iter()
-                .for_each(|(r0, r1, out, s)| run_chunk(co, &kc, &input, r0, r1, out, s));
+                .for_each(|(r0, r1, out, s)| run_chunk(co, &kc, &input, (r0, r1), cols, out, s));
         }
     }
 }
@@ -160,15 +171,15 @@ pub(super) fn run_chunk<T: Real>(
     co: &Coeffs,
     kc: &Kc<T::Calc>,
     input: &Input<T>,
-    r0: usize,
-    r1: usize,
+    rows: (usize, usize),
+    cols: (usize, usize),
     own: &mut [T],
     s: &mut Scratch<T>,
 ) {
     if co.nf == 5 {
-        chunk::<T, true>(co, kc, input, r0, r1, own, s);
+        chunk::<T, true>(co, kc, input, rows, cols, own, s);
     } else {
-        chunk::<T, false>(co, kc, input, r0, r1, own, s);
+        chunk::<T, false>(co, kc, input, rows, cols, own, s);
     }
 }
 
@@ -201,17 +212,18 @@ pub(super) fn old_row<'a, T>(
 /// segment, F and D one column behind A and K (their only look-ahead), so a segment's data is still in
 /// L1 when the next stage reads it. A row is overwritten only after the last read of its old values.
 /// Row ny is virtual (K = 1). Two slots per buffer hold rows j − 1 and j; a slot not yet written holds
-/// zero flows, which is what the rows before the grid carry.
+/// zero flows, which is what the rows before the grid carry. Only the padded columns [c0, c1) are
+/// computed: the buffers hold zero flows and K = 1 beyond them, which is what water at rest has.
 pub(super) fn chunk<T: Real, const DIAG: bool>(
     co: &Coeffs,
     kc: &Kc<T::Calc>,
     input: &Input<T>,
-    r0: usize,
-    r1: usize,
+    (r0, r1): (usize, usize),
+    (c0, c1): (usize, usize),
     own: &mut [T],
     s: &mut Scratch<T>,
 ) {
-    let (nx, ny) = (co.nx, co.ny);
+    let ny = co.ny;
     let stride = co.stride();
     let w = co.w();
     let blk = (co.nf - 1) * w;
@@ -283,9 +295,9 @@ pub(super) fn chunk<T: Real, const DIAG: bool>(
         } else {
             (&mut [], &mut qf[..], &[])
         };
-        let mut a = 1;
+        let mut a = c0;
         loop {
-            let b = (a + co.seg).min(nx + 1);
+            let b = (a + co.seg).min(c1);
             if real {
                 flows::<T, DIAG>(co, kc, input, j, a, b, row, ha, hb, qn_j);
                 if limit {
@@ -293,15 +305,15 @@ pub(super) fn chunk<T: Real, const DIAG: bool>(
                 }
             }
             // F and D lag one column behind: [a − 1, b − 1), and the last column at the end.
-            let fb = if b == nx + 1 { nx + 1 } else { b - 1 };
-            let fa = a.max(2) - 1;
+            let fb = if b == c1 { c1 } else { b - 1 };
+            let fa = if a == c0 { c0 } else { a - 1 };
             if finish && fa < fb {
                 finalize::<T, DIAG>(f_out, qn_prev, k_prev, k_j, w, fa, fb);
                 if mine {
                     depth::<T, DIAG>(d_out, f_out, before, w, kc.beta, fa, fb);
                 }
             }
-            if b == nx + 1 {
+            if b == c1 {
                 break;
             }
             a = b;

@@ -30,6 +30,12 @@
 //!   limit whatever H, l and g are, K only scales flows down, the damping only removes momentum, and
 //!   the external pressure is a bounded forcing.
 //!
+//! * **Only where water moves** ([`Active`]). Still water on the flat bed stays still bit for bit
+//!   (zero flows from equal surfaces, K = 1, depth + 0), so a step computes only the window of
+//!   columns that may move, grown by the stencil's one column and by the columns the stone's
+//!   impulses reach; the rest keep their values. A bed, a swell or a depth set by hand make the
+//!   whole grid active. Tested against [`WaterGrid::step_everywhere`], bit for bit.
+//!
 //! **Parallel and deterministic.** One step is a single fused sweep over rows with a two-row lag held
 //! in small row buffers: new flows of row j → K of row j → limited flows of row j − 1 → depths of row
 //! j − 1, the four stages taking turns on segments of 128 columns so that what one stage writes is
@@ -75,6 +81,8 @@ mod tests;
 use crate::sim::params::{Limiter, ParamError, Precision, WaterParams, MAX_WATER_COLUMNS};
 
 use storage::{each, Coeffs, Fields, State};
+
+pub use sampling::EtaPatch;
 
 /// Fraction of the Courant limit at which the automatic water step runs: r = 0.7/√2 ≈ 0.495 with axis
 /// pipes, r = 0.7·√3/2 ≈ 0.606 with diagonals. Below the limit by 30 %, and near the top, where the
@@ -237,6 +245,12 @@ pub struct WaterGrid {
     clock: f64,
     /// (time, steps) when the step last changed: time = t₀ + (steps − n₀)·Δt_w.
     epoch: (f64, u64),
+    /// The columns that may differ from rest; every other column is at rest with zero flows, and a
+    /// step leaves it so (see [`Active`]).
+    active: Active,
+    /// Counts every change of the surface (a step, a set depth or bed, a swell), so a copy of part
+    /// of it ([`EtaPatch`]) knows when it is stale.
+    revision: u64,
 }
 
 /// The water's step Δt_w for a configuration: the explicit one, or [`COURANT_SAFETY`] of the Courant
@@ -321,6 +335,8 @@ impl WaterGrid {
             steps: 0,
             clock: 0.0,
             epoch: (0.0, 0),
+            revision: 0,
+            active: Active::Rest,
         })
     }
 
@@ -431,14 +447,26 @@ impl WaterGrid {
     /// Runs exactly one water step. Uses the current rayon pool (`pool.install(|| grid.step())` picks
     /// one); the result is bit-identical for any number of threads.
     pub fn step(&mut self) {
+        // The columns this step can change: those that may already move, the ones the pending
+        // impulses reach (a momentum deposit also loads the pipes its column's −x and −y neighbours
+        // own), and one ring around them, where a wave can arrive within one step.
+        let (nx, ny) = (self.cfg.nx, self.cfg.ny);
+        let deposits = self.touched.iter().chain(&self.touched_momentum);
+        let reached = deposits.fold(self.active, |a, &i| a.with(i % nx, i / nx, 1, nx, ny));
+        let region = reached.grown(1, nx, ny);
         self.apply_pending_momentum();
         self.apply_pending_pressure();
-        let chunks = self.chunk_bounds();
-        let has_press = !self.touched.is_empty();
-        let (co, row_bed, row_press) = (&self.co, &self.row_bed, &self.row_press);
-        each!(&mut self.state, f => f.step(co, &chunks, row_bed, row_press, has_press));
+        if let Some((x0, x1, y0, y1)) = region.bounds(nx, ny) {
+            let chunks = self.chunk_bounds(y0, y1 + 1, (x1 - x0 + 1) * (y1 - y0 + 1));
+            let has_press = !self.touched.is_empty();
+            let (co, row_bed, row_press) = (&self.co, &self.row_bed, &self.row_press);
+            let cols = (x0 + 1, x1 + 2);
+            each!(&mut self.state, f => f.step(co, &chunks, cols, row_bed, row_press, has_press));
+        }
+        self.active = region;
         self.clear_pressure();
         self.steps += 1;
+        self.revision += 1;
     }
 
     /// Rows per chunk for the parallel step: `None` (default) chooses from the grid size and the pool's
@@ -447,20 +475,88 @@ impl WaterGrid {
         self.chunk_rows = rows.map(|r| r.max(2));
     }
 
-    fn chunk_bounds(&self) -> Vec<(usize, usize)> {
-        let ny = self.co.ny;
+    /// From now on every step computes every column, moving or not, instead of the window where
+    /// water may move: the same result bit for bit (the reference the window is tested against).
+    pub fn step_everywhere(&mut self) {
+        self.active = Active::All;
+    }
+
+    /// The columns the last step computed, (x0, x1, y0, y1) inclusive; `None` when the water is
+    /// wholly at rest.
+    pub fn active_window(&self) -> Option<(usize, usize, usize, usize)> {
+        self.active.bounds(self.cfg.nx, self.cfg.ny)
+    }
+
+    /// The chunks of rows [r0, r1) for a step over `columns` columns.
+    fn chunk_bounds(&self, r0: usize, r1: usize, columns: usize) -> Vec<(usize, usize)> {
+        let rows = r1 - r0;
         let n = match self.chunk_rows {
-            Some(r) => ny.div_ceil(r).min(ny / 2).max(1),
+            Some(r) => rows.div_ceil(r).min(rows / 2).max(1),
             None => {
                 let threads = rayon::current_num_threads();
-                if threads <= 1 || self.cfg.nx * ny < PARALLEL_MIN_COLUMNS {
+                if threads <= 1 || columns < PARALLEL_MIN_COLUMNS {
                     1
                 } else {
-                    (2 * threads).min(ny / MIN_CHUNK_ROWS).max(1)
+                    (2 * threads).min(rows / MIN_CHUNK_ROWS).max(1)
                 }
             }
         };
-        // Even split: every chunk has at least 2 rows when n ≤ ny / 2.
-        (0..n).map(|c| (c * ny / n, (c + 1) * ny / n)).collect()
+        // Even split: every chunk has at least 2 rows when n ≤ rows / 2.
+        (0..n)
+            .map(|c| (r0 + c * rows / n, r0 + (c + 1) * rows / n))
+            .collect()
+    }
+}
+
+/// Where a grid's water may move. A column at rest (its depth the rest depth on the flat bed, its
+/// flows zero) whose neighbours are at rest and that receives no impulse stays at rest bit for bit
+/// through a step: its new flows are e^{−γΔt}·0 + Δt·(gA/L)·(H − H) = 0, its limiter 1 and its
+/// depth H + Δt·0. So a step need only compute the window of columns that may move grown by one
+/// ring, and the window grows by at most one column a step (the stencil's reach), plus what the
+/// stone deposits. A bed, a swell or a depth set by hand make the whole grid active.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Active {
+    /// Every column at rest.
+    Rest,
+    /// Columns [x0, x1] × [y0, y1] may move; the rest are at rest.
+    Window(usize, usize, usize, usize),
+    /// Any column may move.
+    All,
+}
+
+impl Active {
+    /// Also column (ix, iy) and `ring` columns around it.
+    fn with(self, ix: usize, iy: usize, ring: usize, nx: usize, ny: usize) -> Self {
+        let (x0, x1) = (ix.saturating_sub(ring), (ix + ring).min(nx - 1));
+        let (y0, y1) = (iy.saturating_sub(ring), (iy + ring).min(ny - 1));
+        match self {
+            Active::Rest => Active::Window(x0, x1, y0, y1),
+            Active::Window(a0, a1, b0, b1) => {
+                Active::Window(a0.min(x0), a1.max(x1), b0.min(y0), b1.max(y1))
+            }
+            Active::All => Active::All,
+        }
+    }
+
+    /// Grown by `ring` columns on every side (clamped to the grid).
+    fn grown(self, ring: usize, nx: usize, ny: usize) -> Self {
+        match self {
+            Active::Window(x0, x1, y0, y1) => Active::Window(
+                x0.saturating_sub(ring),
+                (x1 + ring).min(nx - 1),
+                y0.saturating_sub(ring),
+                (y1 + ring).min(ny - 1),
+            ),
+            other => other,
+        }
+    }
+
+    /// Inclusive column bounds, `None` at rest.
+    fn bounds(self, nx: usize, ny: usize) -> Option<(usize, usize, usize, usize)> {
+        match self {
+            Active::Rest => None,
+            Active::Window(x0, x1, y0, y1) => Some((x0, x1, y0, y1)),
+            Active::All => Some((0, nx - 1, 0, ny - 1)),
+        }
     }
 }

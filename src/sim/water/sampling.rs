@@ -4,6 +4,33 @@
 use super::storage::each;
 use super::WaterGrid;
 
+/// η (m) of a rectangle of a grid's columns at one revision of its surface ([`WaterGrid::fill_patch`]).
+#[derive(Debug, Clone, Default)]
+pub struct EtaPatch {
+    ix0: usize,
+    iy0: usize,
+    nx: usize,
+    ny: usize,
+    revision: u64,
+    /// Row-major from (ix0, iy0).
+    eta: Vec<f64>,
+}
+
+impl EtaPatch {
+    fn holds(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> bool {
+        i0 >= self.ix0 && i1 < self.ix0 + self.nx && j0 >= self.iy0 && j1 < self.iy0 + self.ny
+    }
+    /// η of column (ix, iy), which the patch holds.
+    #[inline]
+    pub fn at(&self, ix: usize, iy: usize) -> f64 {
+        self.eta[(iy - self.iy0) * self.nx + (ix - self.ix0)]
+    }
+    /// The columns held: (first ix, first iy, count in x, count in y).
+    pub fn bounds(&self) -> (usize, usize, usize, usize) {
+        (self.ix0, self.iy0, self.nx, self.ny)
+    }
+}
+
 impl WaterGrid {
     /// Column indices and weights for bilinear sampling on column centres; points in the outer half
     /// cell take the edge column's value.
@@ -11,7 +38,9 @@ impl WaterGrid {
         let l = self.cfg.cell;
         let axis = |p: f64, o: f64, n: usize| {
             let f = ((p - o) / l - 0.5).clamp(0.0, (n - 1) as f64);
-            let i0 = (f.floor() as usize).min(n.saturating_sub(2));
+            // f ≥ 0 (or NaN, which casts to 0 as its floor does), so the cast is the floor without
+            // the libm call.
+            let i0 = (f as usize).min(n.saturating_sub(2));
             let t = (f - i0 as f64).clamp(0.0, 1.0);
             (i0, (i0 + 1).min(n - 1), t)
         };
@@ -31,13 +60,58 @@ impl WaterGrid {
     /// Surface elevation η (m) above the rest level z = 0 at world (x, y), bilinear between column
     /// centres; 0 outside the grid.
     pub fn surface_height(&self, x: f64, y: f64) -> f64 {
+        self.surface_height_in(None, x, y)
+    }
+
+    /// [`WaterGrid::surface_height`], reading the columns from `patch` where it holds them and is
+    /// current (the same values, so the same result bit for bit), from the grid elsewhere.
+    pub fn surface_height_in(&self, patch: Option<&EtaPatch>, x: f64, y: f64) -> f64 {
         if !self.contains(x, y) {
             return 0.0;
         }
         let [(i0, i1, tx), (j0, j1, ty)] = self.bilinear(x, y);
-        let a = self.eta(i0, j0) + tx * (self.eta(i1, j0) - self.eta(i0, j0));
-        let b = self.eta(i0, j1) + tx * (self.eta(i1, j1) - self.eta(i0, j1));
+        let held = patch.filter(|p| p.revision == self.revision && p.holds(i0, i1, j0, j1));
+        let [e00, e10, e01, e11] = match held {
+            Some(p) => [p.at(i0, j0), p.at(i1, j0), p.at(i0, j1), p.at(i1, j1)],
+            None => {
+                // The four columns in one pass over the storage (the same values `eta` gives).
+                let (co, h) = (&self.co, self.cfg.depth);
+                each!(&self.state, f => [
+                    f.eta_at(co, h, i0, j0),
+                    f.eta_at(co, h, i1, j0),
+                    f.eta_at(co, h, i0, j1),
+                    f.eta_at(co, h, i1, j1),
+                ])
+            }
+        };
+        let a = e00 + tx * (e10 - e00);
+        let b = e01 + tx * (e11 - e01);
         a + ty * (b - a)
+    }
+
+    /// Copies η of the columns [x0, x1] × [y0, y1] (clamped to the grid) into `patch`, tagged with
+    /// the surface's revision: a stone stepping over a still surface reads it many times a tick.
+    pub fn fill_patch(
+        &self,
+        patch: &mut EtaPatch,
+        (x0, x1): (usize, usize),
+        (y0, y1): (usize, usize),
+    ) {
+        let (x1, y1) = (x1.min(self.cfg.nx - 1), y1.min(self.cfg.ny - 1));
+        patch.eta.clear();
+        patch.revision = self.revision;
+        if x0 > x1 || y0 > y1 {
+            patch.nx = 0;
+            patch.ny = 0;
+            return;
+        }
+        (patch.ix0, patch.iy0, patch.nx, patch.ny) = (x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+        let (co, h) = (&self.co, self.cfg.depth);
+        each!(&self.state, f => {
+            for iy in y0..=y1 {
+                patch.eta.extend((x0..=x1).map(|ix| f.eta_at(co, h, ix, iy)));
+            }
+        });
     }
 
     /// η (m) of column (ix, iy): bed + depth, relative to the rest level; 0 outside the grid.
@@ -45,12 +119,8 @@ impl WaterGrid {
         if ix >= self.cfg.nx || iy >= self.cfg.ny {
             return 0.0;
         }
-        let (i, j) = (self.at(ix, iy, 0), iy * self.co.w() + 1 + ix);
-        let (d, b) = each!(&self.state, f => (f.get(i), f.bed_at(j)));
-        match b {
-            Some(b) => (d + b) - self.cfg.depth,
-            None => d - self.cfg.depth,
-        }
+        let (co, h) = (&self.co, self.cfg.depth);
+        each!(&self.state, f => f.eta_at(co, h, ix, iy))
     }
 
     /// η of every column, row-major (iy * nx + ix), for rendering as a texture.

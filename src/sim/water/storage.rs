@@ -10,7 +10,7 @@ use crate::sim::params::Swell;
 use crate::sim::params::Limiter;
 
 use super::kernel::{Scratch, SEGMENT};
-use super::{WaterConfig, WaterGrid};
+use super::{Active, WaterConfig, WaterGrid};
 
 /// Pipe areas (m²) of an axis and a diagonal pipe: the isotropic A_axis = ⅔Hl, A_diag = (√2/6)Hl
 /// with diagonals (equal areas would make waves 1.55× too fast), A = Hl with axis pipes only.
@@ -218,6 +218,16 @@ impl<T: Real> Fields<T> {
         self.bed.get(i).map(|b| b.get())
     }
 
+    /// η of column (ix, iy) inside the grid: bed + depth − the rest depth `h`, in f64.
+    #[inline]
+    pub(super) fn eta_at(&self, co: &Coeffs, h: f64, ix: usize, iy: usize) -> f64 {
+        let d = self.cur[co.at(ix, iy, 0)].get();
+        match self.bed.get(iy * co.w() + 1 + ix) {
+            Some(b) => (d + b.get()) - h,
+            None => d - h,
+        }
+    }
+
     pub(super) fn set_bed(&mut self, len: usize, i: usize, v: f64) {
         if self.bed.is_empty() {
             self.bed = vec![T::ZERO; len];
@@ -290,6 +300,8 @@ impl WaterGrid {
             let i = self.at(ix, iy, 0);
             let d = depth.max(0.0);
             each!(&mut self.state, f => f.set(i, d));
+            self.revision += 1;
+            self.active = Active::All;
         }
     }
 
@@ -316,6 +328,8 @@ impl WaterGrid {
         let (len, v) = (self.cfg.ny * w, z + self.cfg.depth);
         each!(&mut self.state, f => f.set_bed(len, iy * w + 1 + ix, v));
         self.row_bed[iy] = true;
+        self.revision += 1;
+        self.active = Active::All;
     }
 
     /// Zeroes every flow (the water is then at rest, whatever its surface).
@@ -350,6 +364,8 @@ impl WaterGrid {
         };
         let r2 = std::f64::consts::FRAC_1_SQRT_2;
         let diag = self.cfg.diagonal_pipes;
+        self.revision += 1;
+        self.active = Active::All;
         let co = self.co;
         for iy in 0..ny {
             let yc = oy + (iy as f64 + 0.5) * l;

@@ -143,13 +143,113 @@ fn chunk_bounds_cover_the_rows() {
     let mut w = grid(4, 37, false, Limiter::MassConserving);
     for rows in [2, 3, 10, 36, 100] {
         w.set_chunk_rows(Some(rows));
-        let b = w.chunk_bounds();
-        assert_eq!(b[0].0, 0);
-        assert_eq!(b[b.len() - 1].1, 37);
-        for p in b.windows(2) {
-            assert_eq!(p[0].1, p[1].0);
+        for (r0, r1) in [(0, 37), (5, 9), (20, 37)] {
+            let b = w.chunk_bounds(r0, r1, 4 * (r1 - r0));
+            assert_eq!(b[0].0, r0);
+            assert_eq!(b[b.len() - 1].1, r1);
+            for p in b.windows(2) {
+                assert_eq!(p[0].1, p[1].0);
+            }
+            assert!(b.iter().all(|&(a, z)| z - a >= 2));
         }
-        assert!(b.iter().all(|&(a, z)| z - a >= 2));
+    }
+}
+
+/// A stone's wake over still water: vertical and horizontal impulses along a line at 3 cells a step
+/// (faster than the waves, like the stone), then a few steps without any.
+fn wake(w: &mut WaterGrid, step: usize) {
+    let x = 3.0 + 3.0 * step as f64;
+    let y = 0.4 * w.ny() as f64 + 0.05 * step as f64;
+    if x < w.nx() as f64 - 2.0 && step % 5 != 4 {
+        w.deposit_impulse_box(x, y, 0.7, 2e4);
+        w.deposit_momentum_box(x, y, 0.7, [3e3, -1e3]);
+        w.deposit_impulse(x - 1.3, y + 0.6, 5e3);
+    }
+}
+
+/// Stepping only the window where water may move gives the whole grid's result bit for bit, for
+/// both stencils, limiters and precisions and any chunking; the window stays smaller than the grid
+/// while the wake is young, and nothing outside it has moved.
+#[test]
+fn stepping_only_the_moving_window_gives_the_whole_grid_result() {
+    for (diag, p) in [false, true].into_iter().flat_map(|d| BOTH.map(|p| (d, p))) {
+        for limiter in [Limiter::MassConserving, Limiter::PaperClamp] {
+            for rows in [None, Some(2), Some(5)] {
+                let at_rest = grid_in(60, 23, diag, limiter, p);
+                let mut all = at_rest.clone();
+                all.step_everywhere();
+                let mut w = at_rest.clone();
+                w.set_chunk_rows(rows);
+                assert_eq!(w.active_window(), None);
+                let mut smallest = usize::MAX;
+                for step in 0..40 {
+                    wake(&mut all, step);
+                    wake(&mut w, step);
+                    all.step();
+                    w.step();
+                    let case = format!("diag {diag} {limiter:?} {p:?} rows {rows:?} step {step}");
+                    assert_eq!(bits(&w), bits(&all), "{case}");
+                    let (x0, x1, y0, y1) = w.active_window().expect("the wake moves water");
+                    smallest = smallest.min((x1 - x0 + 1) * (y1 - y0 + 1));
+                    for iy in 0..w.ny() {
+                        for ix in 0..w.nx() {
+                            if !(x0..=x1).contains(&ix) || !(y0..=y1).contains(&iy) {
+                                assert_eq!(w.depth(ix, iy), at_rest.depth(ix, iy), "{case}");
+                            }
+                        }
+                    }
+                }
+                assert!(w.max_abs_eta() > 1e-3, "the wake made waves");
+                assert!(
+                    smallest < 60 * 23 / 4,
+                    "the window stayed small: {smallest}"
+                );
+            }
+        }
+    }
+}
+
+/// A patch gives the grid's own heights bit for bit where it holds the columns, and the grid's
+/// elsewhere; once the surface steps, the stale patch is not read.
+#[test]
+fn a_patch_of_heights_reads_like_the_grid() {
+    for p in BOTH {
+        let mut w = grid_in(30, 14, true, Limiter::MassConserving, p);
+        for step in 0..12 {
+            wake(&mut w, step);
+            w.step();
+        }
+        let mut patch = EtaPatch::default();
+        w.fill_patch(&mut patch, (4, 17), (2, 9));
+        assert_eq!(patch.bounds(), (4, 2, 14, 8));
+        let points = (0..2000).map(|k| {
+            let k = k as f64;
+            (
+                (k * 0.618_034).fract() * 34.0 - 2.0,
+                (k * 0.414_214).fract() * 18.0 - 2.0,
+            )
+        });
+        for (x, y) in points.clone() {
+            let (a, b) = (
+                w.surface_height_in(Some(&patch), x, y),
+                w.surface_height(x, y),
+            );
+            assert_eq!(a.to_bits(), b.to_bits(), "{p:?} at ({x}, {y})");
+        }
+        wake(&mut w, 12);
+        w.step();
+        let moved = points.clone().any(|(x, y)| {
+            let (gx, gy) = (x.clamp(4.0, 17.0), y.clamp(2.0, 9.0));
+            patch.at(gx as usize, gy as usize) != w.eta(gx as usize, gy as usize)
+        });
+        assert!(moved, "the step changed the patch's columns");
+        for (x, y) in points {
+            let (a, b) = (
+                w.surface_height_in(Some(&patch), x, y),
+                w.surface_height(x, y),
+            );
+            assert_eq!(a.to_bits(), b.to_bits(), "{p:?} stale patch at ({x}, {y})");
+        }
     }
 }
 
