@@ -1371,11 +1371,10 @@ fn local_bounds(w: &WaterGrid, patch: &mut EtaPatch, x: f64, y: f64, reach: f64)
     };
     let (x0, x1, okx) = span(x, ox, w.nx());
     let (y0, y1, oky) = span(y, oy, w.ny());
+    w.fill_patch(patch, (x0, x1), (y0, y1));
     if !(okx && oky) {
-        w.fill_patch(patch, (1, 0), (1, 0));
         return (f64::NEG_INFINITY, 0.0);
     }
-    w.fill_patch(patch, (x0, x1), (y0, y1));
     // Beyond the grid the surface is at rest (η = 0): count it when the reach extends past an edge.
     let inside = |c: f64, o: f64, n: usize| c - reach > o && c + reach < o + n as f64 * l;
     let mut m = if inside(x, ox, w.nx()) && inside(y, oy, w.ny()) {

@@ -89,8 +89,7 @@ impl<T: Num> Scratch<T> {
 }
 
 impl<T: Real> Fields<T> {
-    /// One step over the chunks (see [`WaterGrid::step`]).
-    /// One step over the rows of `chunks` (contiguous, ascending) and the padded columns `cols`
+    /// One step (see [`WaterGrid::step`]) over the rows of `chunks` (contiguous, ascending) and the padded columns `cols`
     /// ([c0, c1) ⊆ [1, nx + 1)); everything outside must be at rest with its neighbours (the grid's
     /// active window guarantees it), so it keeps its values.
     #[allow(clippy::too_many_arguments)]

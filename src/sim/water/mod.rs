@@ -524,11 +524,25 @@ enum Active {
     All,
 }
 
+/// Columns [x0, x1] × [y0, y1] grown by `ring` on every side, clamped to an nx × ny grid.
+fn grow_window(
+    (x0, x1, y0, y1): (usize, usize, usize, usize),
+    ring: usize,
+    nx: usize,
+    ny: usize,
+) -> (usize, usize, usize, usize) {
+    (
+        x0.saturating_sub(ring),
+        (x1 + ring).min(nx - 1),
+        y0.saturating_sub(ring),
+        (y1 + ring).min(ny - 1),
+    )
+}
+
 impl Active {
     /// Also column (ix, iy) and `ring` columns around it.
     fn with(self, ix: usize, iy: usize, ring: usize, nx: usize, ny: usize) -> Self {
-        let (x0, x1) = (ix.saturating_sub(ring), (ix + ring).min(nx - 1));
-        let (y0, y1) = (iy.saturating_sub(ring), (iy + ring).min(ny - 1));
+        let (x0, x1, y0, y1) = grow_window((ix, ix, iy, iy), ring, nx, ny);
         match self {
             Active::Rest => Active::Window(x0, x1, y0, y1),
             Active::Window(a0, a1, b0, b1) => {
@@ -541,12 +555,10 @@ impl Active {
     /// Grown by `ring` columns on every side (clamped to the grid).
     fn grown(self, ring: usize, nx: usize, ny: usize) -> Self {
         match self {
-            Active::Window(x0, x1, y0, y1) => Active::Window(
-                x0.saturating_sub(ring),
-                (x1 + ring).min(nx - 1),
-                y0.saturating_sub(ring),
-                (y1 + ring).min(ny - 1),
-            ),
+            Active::Window(x0, x1, y0, y1) => {
+                let (x0, x1, y0, y1) = grow_window((x0, x1, y0, y1), ring, nx, ny);
+                Active::Window(x0, x1, y0, y1)
+            }
             other => other,
         }
     }

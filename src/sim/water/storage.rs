@@ -222,8 +222,8 @@ impl<T: Real> Fields<T> {
     #[inline]
     pub(super) fn eta_at(&self, co: &Coeffs, h: f64, ix: usize, iy: usize) -> f64 {
         let d = self.cur[co.at(ix, iy, 0)].get();
-        match self.bed.get(iy * co.w() + 1 + ix) {
-            Some(b) => (d + b.get()) - h,
+        match self.bed_at(iy * co.w() + 1 + ix) {
+            Some(b) => (d + b) - h,
             None => d - h,
         }
     }
