@@ -142,6 +142,11 @@ pub trait Surface {
     fn height(&self, x: f64, y: f64) -> f64;
     /// An upper bound of η over the whole surface (for cheap rejection).
     fn max_height(&self) -> f64;
+    /// An upper bound of η over the rectangle [lo, hi] (world x, y); [`Surface::max_height`]
+    /// unless the surface knows better.
+    fn max_height_over(&self, _lo: [f64; 2], _hi: [f64; 2]) -> f64 {
+        self.max_height()
+    }
     /// A lower bound of η over the whole surface (lets the kernel skip classifying faces that are
     /// surely under); −∞ when unknown.
     fn min_height(&self) -> f64 {

@@ -348,18 +348,55 @@ pub struct FlightBound {
     /// longer a parabola but can dip below its chord over [a, b] by at most
     /// `lift · w (w + AIR_SUBSTEP) / 4` (w = b − a; the kicks come every substep).
     pub lift: f64,
+    /// A second bound for a body of revolution (see [`FlightBound::with_revolution`]): the rate
+    /// without the spin about the symmetry axis, and the facet gap it costs. `None`: only `rate`.
+    pub revolution: Option<RevolutionBound>,
+}
+
+/// The clearance bound of a body whose vertices lie on rings about its symmetry axis, at n
+/// azimuths each. Let C be the clearance of the rings themselves (every point of every ring, not
+/// only the vertices): a spin about the axis maps the rings onto themselves, so C moves only with
+/// the axis (|ω⊥| = |L × a| / I₁) and the translation, at most at `rate` (relative to the centre's
+/// height, as [`FlightBound::rate`]). The vertices' clearance c is never below C, and never above it
+/// by more than `facet` (the nearest vertex to the lowest ring point is at most a chord
+/// 2r sin(π/2n) away, over which the height and the surface under it change by at most
+/// (1 + S) times that; on flat water the sampled cosine's own gap r(1 − cos π/n)). So
+/// c(t) ≥ c(a) − facet − rate (t − a): without the spin's ωR, which dominates `rate` for a
+/// fast-spun stone (a 30 rev/s pebble's rim moves at 11 m/s).
+#[derive(Debug, Clone, Copy)]
+pub struct RevolutionBound {
+    pub rate: f64,
+    pub facet: f64,
 }
 
 impl FlightBound {
     /// For a stone of bounding radius `radius` in flight with horizontal speed `speed_h`, angular
     /// speed at most `omega`, over a surface of slope at most `slope` and height at most `max_eta`.
     pub fn new(radius: f64, speed_h: f64, omega: f64, slope: f64, max_eta: f64) -> Self {
-        let turn = omega * radius;
-        let rate = turn + slope * (speed_h + turn);
         Self {
-            rate: if rate.is_nan() { f64::INFINITY } else { rate },
+            rate: clearance_rate(radius, speed_h, omega, slope),
             floor: -radius - max_eta.max(0.0),
             lift: 0.0,
+            revolution: None,
+        }
+    }
+
+    /// With the second bound of a body of revolution ([`RevolutionBound`]): `omega_perp` bounds
+    /// the angular speed of its symmetry axis, `facet` the vertices' gap above the rings.
+    pub fn with_revolution(
+        self,
+        radius: f64,
+        speed_h: f64,
+        omega_perp: f64,
+        slope: f64,
+        facet: f64,
+    ) -> Self {
+        Self {
+            revolution: Some(RevolutionBound {
+                rate: clearance_rate(radius, speed_h, omega_perp, slope),
+                facet: if facet.is_nan() { f64::INFINITY } else { facet },
+            }),
+            ..self
         }
     }
 
@@ -372,13 +409,117 @@ impl FlightBound {
     }
 }
 
+/// ω R + S (|v_h| + ω R): how fast the lowest vertex's clearance relative to the centre's height
+/// can change (see [`FlightBound::rate`]); ∞ for a NaN input.
+fn clearance_rate(radius: f64, speed_h: f64, omega: f64, slope: f64) -> f64 {
+    let turn = omega * radius;
+    let rate = turn + slope * (speed_h + turn);
+    if rate.is_nan() {
+        f64::INFINITY
+    } else {
+        rate
+    }
+}
+
 /// A sample of the flight: offset t, the state there, the lowest vertex's clearance c(t) (a lower
-/// bound of it, as `lowest_clearance` gives) and the centre of mass's height z(t).
+/// bound of it, as `lowest_clearance` gives) and, with a [`WaveBound`], the lowest vertex's height
+/// relative to the centre of mass (its rise, whatever the water).
 #[derive(Debug, Clone, Copy)]
 struct Sample {
     t: f64,
     state: BodyState,
     c: f64,
+    rise: f64,
+}
+
+/// A second clearance bound over a wavy surface, for when the slope's term in
+/// [`FlightBound::rate`] (S |v_h|: several m/s over a wake) is what keeps an interval from being
+/// cleared. Over [a, b] the lowest vertex stands at least min(z_a, z_b) + min rise above the rest
+/// level (the rise, flat water's own relative clearance, changes only with the attitude, at
+/// `rate`, or as `revolution` bounds it), and the surface under the stone is at most the highest η
+/// over the rectangle its vertices can sweep: the chord of the centre's horizontal path, widened
+/// by the stone's radius and by the bow the air's acceleration `drift` allows.
+pub struct WaveBound<'a> {
+    /// The lowest vertex's height relative to the centre of mass (flat water's clearance − z).
+    pub rise: &'a dyn Fn(&BodyState) -> f64,
+    /// The highest η of the surface over the rectangle [lo, hi] (world x, y).
+    pub crest: &'a dyn Fn([f64; 2], [f64; 2]) -> f64,
+    /// Bounding radius (m).
+    pub radius: f64,
+    /// ω R: how fast the rise can change (m/s).
+    pub rate: f64,
+    /// For a body of revolution: the rise's rate without the spin, and the facet gap on flat water.
+    pub revolution: Option<RevolutionBound>,
+    /// Bound of the air's acceleration (m/s², 0 without air).
+    pub drift: f64,
+}
+
+/// What [`first_touch`] reads of the flight.
+struct Probe<'a> {
+    fly: &'a dyn Fn(&BodyState, f64) -> BodyState,
+    clear: &'a dyn Fn(&BodyState) -> f64,
+    bound: &'a FlightBound,
+    wave: Option<&'a WaveBound<'a>>,
+}
+
+impl Probe<'_> {
+    fn sample(&self, t: f64, state: BodyState) -> Sample {
+        Sample {
+            t,
+            state,
+            c: (self.clear)(&state),
+            rise: self.wave.map_or(f64::NAN, |w| (w.rise)(&state)),
+        }
+    }
+
+    /// Whether the bounds prove c > 0 over [a, b].
+    fn clears(&self, a: &Sample, b: &Sample) -> bool {
+        let bound = self.bound;
+        let width = b.t - a.t;
+        let (za, zb) = (a.state.position.z, b.state.position.z);
+        let (ga, gb) = (a.c - za, b.c - zb);
+        let dip = bound.lift * width * (width + AIR_SUBSTEP) * 0.25;
+        let mut g_min = lowest_between(ga, gb, bound.rate * width);
+        if let Some(r) = bound.revolution {
+            g_min = g_min.max(lowest_between(ga - r.facet, gb - r.facet, r.rate * width));
+        }
+        let low = za.min(zb) - dip;
+        if low + g_min.max(bound.floor) > 0.0 {
+            return true;
+        }
+        let Some(w) = self.wave else { return false };
+        let mut rise = lowest_between(a.rise, b.rise, w.rate * width);
+        if let Some(r) = w.revolution {
+            rise = rise.max(lowest_between(
+                a.rise - r.facet,
+                b.rise - r.facet,
+                r.rate * width,
+            ));
+        }
+        let reach = w.radius + w.drift * width * (width + AIR_SUBSTEP) * 0.25;
+        let (pa, pb) = (a.state.position, b.state.position);
+        let lo = [pa.x.min(pb.x) - reach, pa.y.min(pb.y) - reach];
+        let hi = [pa.x.max(pb.x) + reach, pa.y.max(pb.y) + reach];
+        let rounding = 1e-12 * (w.radius + za.abs().max(zb.abs()));
+        low + rise.max(-w.radius) - (w.crest)(lo, hi) > rounding
+    }
+
+    /// [`first_touch`] on [a.t, b.t], c(a) > 0.
+    fn search(&self, a: Sample, b: Sample, depth: u32) -> Option<(f64, f64)> {
+        if self.clears(&a, &b) {
+            return None;
+        }
+        if depth >= TOUCH_SEARCH_DEPTH {
+            return (b.c <= 0.0).then_some((a.t, b.t));
+        }
+        let half = 0.5 * (b.t - a.t);
+        let m = self.sample(a.t + half, (self.fly)(&a.state, half));
+        let left = self.search(a, m, depth + 1);
+        if m.c <= 0.0 {
+            return left.or(Some((a.t, m.t)));
+        }
+        left.or_else(|| self.search(m, b, depth + 1))
+    }
 }
 
 /// The first touch along an exact flight from `s` over [0, h]: `None` when the stone is proven
@@ -390,76 +531,45 @@ struct Sample {
 /// vertex's clearance relative to it, changes at most at `bound.rate` and never falls below
 /// `bound.floor`. So over [a, b], c ≥ min(z_a, z_b) + min g, with g bounded below by the lines
 /// g_a − rate (t − a) and g_b − rate (b − t). With rate 0 (a locked attitude over flat water) c is
-/// concave and the two ends decide exactly. Otherwise an interval the bound cannot clear is halved,
-/// left half first, until it is cleared or a wet point is found, at most
-/// [`TOUCH_SEARCH_DEPTH`] times; each midpoint is flown to from its interval's start, so a general
-/// body's integrated torque-free rotation costs the flight's length once per level, not per sample.
+/// concave and the two ends decide exactly. Otherwise an interval the bounds (this one, the
+/// revolution's and the wave's) cannot clear is halved, left half first, until it is cleared or
+/// a wet point is found, at most [`TOUCH_SEARCH_DEPTH`] times; each midpoint is flown to from its
+/// interval's start, so a general body's integrated torque-free rotation costs the flight's length
+/// once per level, not per sample.
 pub fn first_touch(
     fly: &dyn Fn(&BodyState, f64) -> BodyState,
     clear: &dyn Fn(&BodyState) -> f64,
     bound: &FlightBound,
+    wave: Option<&WaveBound>,
     s: &BodyState,
     h: f64,
 ) -> Option<(f64, f64)> {
-    let a = Sample {
-        t: 0.0,
-        state: *s,
-        c: clear(s),
+    let probe = Probe {
+        fly,
+        clear,
+        bound,
+        wave,
     };
+    let a = probe.sample(0.0, *s);
     if a.c <= 0.0 {
         return Some((0.0, 0.0));
     }
-    let end = fly(s, h);
-    let b = Sample {
-        t: h,
-        state: end,
-        c: clear(&end),
-    };
+    let b = probe.sample(h, fly(s, h));
     if bound.rate == 0.0 && bound.lift == 0.0 {
         return (b.c <= 0.0).then_some((0.0, h));
     }
-    search(&(fly, clear), bound, a, b, 0)
+    probe.search(a, b, 0)
 }
 
-/// [`first_touch`] on [a.t, b.t], c(a) > 0.
-#[allow(clippy::type_complexity)]
-fn search(
-    f: &(
-        &dyn Fn(&BodyState, f64) -> BodyState,
-        &dyn Fn(&BodyState) -> f64,
-    ),
-    bound: &FlightBound,
-    a: Sample,
-    b: Sample,
-    depth: u32,
-) -> Option<(f64, f64)> {
-    let width = b.t - a.t;
-    let (za, zb) = (a.state.position.z, b.state.position.z);
-    let (ga, gb) = (a.c - za, b.c - zb);
-    let slack = bound.rate * width;
-    let dip = bound.lift * width * (width + AIR_SUBSTEP) * 0.25;
-    let g_min = if (ga - gb).abs() >= slack {
+/// The lowest value over an interval of a function that is `ga` and `gb` at its ends and changes
+/// by at most `slack` across it (rate × width): where the two lines g_a − rate (t − a) and
+/// g_b − rate (b − t) meet, or the lower end's line at the other end.
+fn lowest_between(ga: f64, gb: f64, slack: f64) -> f64 {
+    if (ga - gb).abs() >= slack {
         ga.max(gb) - slack
     } else {
         0.5 * (ga + gb - slack)
-    };
-    if za.min(zb) - dip + g_min.max(bound.floor) > 0.0 {
-        return None;
     }
-    if depth >= TOUCH_SEARCH_DEPTH {
-        return (b.c <= 0.0).then_some((a.t, b.t));
-    }
-    let state = (f.0)(&a.state, 0.5 * width);
-    let m = Sample {
-        t: a.t + 0.5 * width,
-        state,
-        c: (f.1)(&state),
-    };
-    let left = search(f, bound, a, m, depth + 1);
-    if m.c <= 0.0 {
-        return left.or(Some((a.t, m.t)));
-    }
-    left.or_else(|| search(f, bound, m, b, depth + 1))
 }
 
 // Dormand–Prince 5(4) tableau.
@@ -728,7 +838,7 @@ mod tests {
             assert!(lift > 9.81, "the test needs a lift above gravity");
             let bound = FlightBound::new(0.05, 12.0, 0.0, 0.0, 0.0).with_air(lift);
             let wet = (0..=400).any(|k| clear(&fly_air(&s, h * k as f64 / 400.0)) <= 0.0);
-            let found = first_touch(&fly_air, &clear, &bound, &s, h);
+            let found = first_touch(&fly_air, &clear, &bound, None, &s, h);
             if wet {
                 touching += 1;
                 assert!(found.is_some(), "missed the touch of vz = {vz}");
@@ -811,6 +921,7 @@ mod tests {
             rate: amp * w,
             floor: -d - amp,
             lift: 0.0,
+            revolution: None,
         };
         for (z0, touches) in [(0.02, true), (0.036, false)] {
             let s = BodyState {
@@ -821,7 +932,7 @@ mod tests {
             };
             let clear = |st: &BodyState| st.position.z + rel(st);
             assert!(clear(&s) > 0.0 && clear(&fly(&s, h)) > 0.0);
-            let found = first_touch(&fly, &clear, &bound, &s, h);
+            let found = first_touch(&fly, &clear, &bound, None, &s, h);
             // Brute force on the same flight.
             let first = (0..=100_000)
                 .map(|i| h * i as f64 / 100_000.0)

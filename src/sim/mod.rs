@@ -26,6 +26,9 @@ pub mod scenario;
 pub mod stone;
 pub mod water;
 
+#[cfg(test)]
+mod touch_tests;
+
 use glam::{DMat3, DQuat, DVec3};
 use serde::Serialize;
 
@@ -36,11 +39,11 @@ use hydro::{
 };
 use integrate::{
     first_touch, fly, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv,
-    Dynamics, ErrorScales, FlightBound,
+    Dynamics, ErrorScales, FlightBound, RevolutionBound, WaveBound,
 };
 use params::{Integrator, ParamError, Physics, Preset, Rotation, Shape};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
-use water::{EtaPatch, WaterGrid};
+use water::{EtaPatch, PatchReader, WaterGrid};
 
 /// Errors of building or driving a simulation.
 #[derive(Debug, thiserror::Error)]
@@ -246,9 +249,9 @@ impl Motion {
 enum SurfaceRef<'a> {
     Flat,
     Water {
-        grid: &'a WaterGrid,
-        /// The columns within the stone's reach this tick, copied once (read many times a step).
-        patch: &'a EtaPatch,
+        /// The grid through the columns within the stone's reach this tick, copied once (read
+        /// many times a step).
+        reader: PatchReader<'a>,
         max: f64,
         slope: f64,
     },
@@ -264,8 +267,7 @@ impl<'a> SurfaceRef<'a> {
     ) -> Self {
         match (water, wavy) {
             (Some(grid), true) => SurfaceRef::Water {
-                grid,
-                patch,
+                reader: PatchReader::new(grid, patch),
                 max,
                 slope,
             },
@@ -286,13 +288,19 @@ impl Surface for SurfaceRef<'_> {
     fn height(&self, x: f64, y: f64) -> f64 {
         match self {
             SurfaceRef::Flat => FlatSurface.height(x, y),
-            SurfaceRef::Water { grid, patch, .. } => grid.surface_height_in(Some(patch), x, y),
+            SurfaceRef::Water { reader, .. } => reader.height(x, y),
         }
     }
     fn max_height(&self) -> f64 {
         match self {
             SurfaceRef::Flat => 0.0,
             SurfaceRef::Water { max, .. } => *max,
+        }
+    }
+    fn max_height_over(&self, lo: [f64; 2], hi: [f64; 2]) -> f64 {
+        match self {
+            SurfaceRef::Flat => 0.0,
+            SurfaceRef::Water { reader, max, .. } => reader.max_height_over(lo, hi).unwrap_or(*max),
         }
     }
     fn is_flat(&self) -> bool {
@@ -668,8 +676,7 @@ impl Simulation {
     fn deposit_pending(&mut self) {
         if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             for l in &self.motion.pending {
-                w.deposit_impulse_box(l.x, l.y, l.half, l.impulse);
-                w.deposit_momentum_box(l.x, l.y, l.half, l.horizontal);
+                w.deposit_load_box(l.x, l.y, l.half, l.impulse, l.horizontal);
             }
         }
         self.motion.pending.clear();
@@ -1097,12 +1104,45 @@ impl StepContext<'_> {
         };
         let speed_h = s.velocity.x.hypot(s.velocity.y) + a_air * h;
         let max_eta = self.dy.surface.max_height();
-        let bound = FlightBound::new(stone.bounding_radius, speed_h, omega, self.slope, max_eta)
-            .with_air(a_air);
+        let radius = stone.bounding_radius;
+        let mut bound =
+            FlightBound::new(radius, speed_h, omega, self.slope, max_eta).with_air(a_air);
+        let (mut perp_rate, mut flat_facet) = (f64::INFINITY, f64::INFINITY);
+        if let (Rotation::Free, Some(facet), Some(flat)) = (
+            self.dy.rotation,
+            stone.kernel.facet_gap(self.slope),
+            stone.kernel.facet_gap(0.0),
+        ) {
+            if stone.is_axisymmetric() {
+                // The symmetry axis turns at |ω⊥| = |L × a| / I₁; the air's moment changes
+                // |L × a| by at most its own size.
+                let a = s.orientation * DVec3::Z;
+                let m = stone.principal_moments();
+                let perp = (s.angular_momentum.cross(a).length() + m_air * h) / m.x.min(m.y);
+                bound = bound.with_revolution(radius, speed_h, perp, self.slope, facet);
+                (perp_rate, flat_facet) = (perp * radius, flat);
+            }
+        }
+        // At the origin no early-out applies: the lowest vertex's offset itself.
+        let rise =
+            |st: &BodyState| lowest_clearance(stone, DVec3::ZERO, st.orientation, &FlatSurface);
+        let crest = |lo: [f64; 2], hi: [f64; 2]| self.dy.surface.max_height_over(lo, hi);
+        let wave = (!self.dy.surface.is_flat()).then(|| WaveBound {
+            rise: &rise,
+            crest: &crest,
+            radius,
+            rate: omega * radius,
+            revolution: bound.revolution.map(|_| RevolutionBound {
+                rate: perp_rate,
+                facet: flat_facet,
+            }),
+            drift: a_air,
+        });
         first_touch(
             &|st: &BodyState, t: f64| self.flight(st, t),
             &|st: &BodyState| self.clear(st),
             &bound,
+            wave.as_ref(),
             s,
             h,
         )

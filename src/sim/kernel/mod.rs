@@ -322,6 +322,13 @@ impl KernelMesh {
             revolution: layout.and_then(|l| rings::Revolution::new(mesh, normals, areas, l, reach)),
         }
     }
+
+    /// For a body of revolution whose every vertex is on a ring about body z: how far its lowest
+    /// vertex's clearance can stand above that of its rings, over a surface of slope at most
+    /// `slope` (the facet term of `integrate::RevolutionBound`). `None` for any other mesh.
+    pub fn facet_gap(&self, slope: f64) -> Option<f64> {
+        self.revolution.as_ref()?.facet_gap(slope)
+    }
 }
 
 /// Depth-first walk of a hierarchy with a fixed stack (balanced median splits: depth ≤ 40).
@@ -405,13 +412,26 @@ pub fn lowest_clearance(
         }
         return (position.z + best) - 0.0;
     }
-    // Wavy: d = (z + o) − η ≥ (z + o) − η_max, and both roundings are monotonic.
+    // Wavy: d = (z + o) − η ≥ (z + o) − η_max, and both roundings are monotonic. A box the
+    // surface's highest point cannot rule out is tried against the highest η under its own
+    // horizontal extent (the world box of its vertices, widened far beyond rounding).
     let max_h = surface.max_height();
+    let abs = DMat3::from_cols(rot.x_axis.abs(), rot.y_axis.abs(), rot.z_axis.abs());
+    let widen = km.slack + 1e-12 * (position.x.abs() + position.y.abs());
     let mut best = f64::INFINITY;
     while let Some(i) = walk.pop() {
         let node = &nodes[i as usize];
-        if (position.z + (node.bound(u).0 - km.slack)) - max_h > best {
+        let low = position.z + (node.bound(u).0 - km.slack);
+        if low - max_h > best {
             continue;
+        }
+        if best.is_finite() {
+            let c = position + rot * node.centre;
+            let h = abs * node.half + DVec3::splat(widen);
+            let crest = surface.max_height_over([c.x - h.x, c.y - h.y], [c.x + h.x, c.y + h.y]);
+            if low - crest > best {
+                continue;
+            }
         }
         if node.is_leaf() {
             for &p in &km.vertices[node.range()] {

@@ -48,6 +48,8 @@ pub(super) struct Revolution {
     pub(super) faces: FaceSoa,
     /// Largest |coordinate| of a vertex (m).
     reach: f64,
+    /// Every vertex of the mesh is on a ring.
+    all_on_rings: bool,
 }
 
 impl Revolution {
@@ -138,6 +140,10 @@ impl Revolution {
         if !seen.iter().all(|&s| s) {
             return None;
         }
+        let mut on_ring = vec![false; mesh.positions.len()];
+        for &i in layout.rings.iter().flatten() {
+            on_ring[i as usize] = true;
+        }
         Some(Self {
             n,
             cos,
@@ -146,7 +152,37 @@ impl Revolution {
             strips,
             faces,
             reach,
+            all_on_rings: on_ring.iter().all(|&v| v),
         })
+    }
+
+    /// How far the lowest vertex's clearance can stand above that of the rings themselves (every
+    /// point of every ring, each turned onto the symmetry axis), over a surface of slope at most
+    /// `slope` (see `integrate::RevolutionBound`): the nearest vertex to any ring point is at most
+    /// the chord 2r sin(π/2n) away, over which a height and the surface under it change by
+    /// (1 + S) times that; on flat water the sampled cosine's own gap, r(1 − cos π/n). A ring
+    /// centred off the axis (by rounding) adds twice its offset. `None` when a vertex is on no
+    /// ring.
+    pub(super) fn facet_gap(&self, slope: f64) -> Option<f64> {
+        if !self.all_on_rings {
+            return None;
+        }
+        let half = std::f64::consts::PI / self.n as f64;
+        let tol = 1e-13 * self.reach;
+        let gap = self
+            .rings
+            .iter()
+            .map(|g| {
+                let off = g.cx.hypot(g.cy) + tol;
+                let sampled = if slope == 0.0 {
+                    g.r * (1.0 - half.cos())
+                } else {
+                    2.0 * g.r * (0.5 * half).sin() * (1.0 + slope)
+                };
+                sampled + 2.0 * off * (1.0 + slope)
+            })
+            .fold(0.0, f64::max);
+        Some(gap + 1e-12 * self.reach)
     }
 }
 

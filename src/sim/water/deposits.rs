@@ -53,14 +53,53 @@ impl WaterGrid {
             self.deposit_impulse(x, y, impulse);
             return;
         }
-        let [ox, oy] = self.cfg.origin;
-        let (i0, wx) = overlaps((x - ox) / l, half / l, self.cfg.nx);
-        let (j0, wy) = overlaps((y - oy) / l, half / l, self.cfg.ny);
-        for (j, &fy) in wy.iter().enumerate() {
+        let (ox, oy) = self.footprint(x, y, half);
+        self.spread_impulse(&ox, &oy, impulse);
+    }
+
+    /// The footprint [x ± half] × [y ± half]'s overlaps with the columns along x and along y.
+    fn footprint(&self, x: f64, y: f64, half: f64) -> (Overlaps, Overlaps) {
+        let ([ox, oy], l) = (self.cfg.origin, self.cfg.cell);
+        (
+            overlaps((x - ox) / l, half / l, self.cfg.nx),
+            overlaps((y - oy) / l, half / l, self.cfg.ny),
+        )
+    }
+
+    fn spread_impulse(&mut self, ox: &Overlaps, oy: &Overlaps, impulse: f64) {
+        for (j, &fy) in oy.weights().iter().enumerate() {
             let row = impulse * fy;
-            for (i, &fx) in wx.iter().enumerate() {
-                self.deposit_impulse_cell(i0 + i, j0 + j, row * fx);
+            for (i, &fx) in ox.weights().iter().enumerate() {
+                self.deposit_impulse_cell(ox.first + i, oy.first + j, row * fx);
             }
+        }
+    }
+
+    fn spread_momentum(&mut self, ox: &Overlaps, oy: &Overlaps, j: [f64; 2]) {
+        for (jj, &fy) in oy.weights().iter().enumerate() {
+            for (ii, &fx) in ox.weights().iter().enumerate() {
+                let w = fy * fx;
+                self.deposit_momentum_cell(ox.first + ii, oy.first + jj, [j[0] * w, j[1] * w]);
+            }
+        }
+    }
+
+    /// A contact face's load: [`Self::deposit_impulse_box`] of `impulse` and
+    /// [`Self::deposit_momentum_box`] of `j` over the same footprint, its overlaps with the columns
+    /// found once (the same sums, in the same order, as the two calls).
+    pub fn deposit_load_box(&mut self, x: f64, y: f64, half: f64, impulse: f64, j: [f64; 2]) {
+        let l = self.cfg.cell;
+        if !half.is_finite() || half <= BOX_MIN_HALF * l || !self.contains(x, y) {
+            self.deposit_impulse_box(x, y, half, impulse);
+            self.deposit_momentum_box(x, y, half, j);
+            return;
+        }
+        let (ox, oy) = self.footprint(x, y, half);
+        if impulse.is_finite() {
+            self.spread_impulse(&ox, &oy, impulse);
+        }
+        if j[0].is_finite() && j[1].is_finite() && j != [0.0, 0.0] {
+            self.spread_momentum(&ox, &oy, j);
         }
     }
 
@@ -117,15 +156,8 @@ impl WaterGrid {
             }
             return;
         }
-        let [ox, oy] = self.cfg.origin;
-        let (i0, wx) = overlaps((x - ox) / l, half / l, self.cfg.nx);
-        let (j0, wy) = overlaps((y - oy) / l, half / l, self.cfg.ny);
-        for (jj, &fy) in wy.iter().enumerate() {
-            for (ii, &fx) in wx.iter().enumerate() {
-                let w = fy * fx;
-                self.deposit_momentum_cell(i0 + ii, j0 + jj, [j[0] * w, j[1] * w]);
-            }
-        }
+        let (ox, oy) = self.footprint(x, y, half);
+        self.spread_momentum(&ox, &oy, j);
     }
 
     /// Horizontal impulse (N·s along +x, +y) on one column; ignored outside the grid or if not
@@ -226,11 +258,32 @@ impl WaterGrid {
     }
 }
 
+/// The fractions of a footprint's interval over a row of cells, from cell `first` on (inline up to
+/// [`Overlaps::INLINE`] cells, so a face's footprint, which spans one or two, allocates nothing).
+struct Overlaps {
+    first: usize,
+    len: usize,
+    inline: [f64; Overlaps::INLINE],
+    spill: Vec<f64>,
+}
+
+impl Overlaps {
+    const INLINE: usize = 8;
+
+    fn weights(&self) -> &[f64] {
+        if self.spill.is_empty() {
+            &self.inline[..self.len]
+        } else {
+            &self.spill
+        }
+    }
+}
+
 /// 1D overlaps of the interval [c − h, c + h] (in cells from the grid's edge, c in [0, n)) with the
 /// cells [i, i + 1) of a row of n, as fractions of the interval: the first cell index and the
 /// fractions from it on. The first and last cells of the row extend to ∓∞, so what lies beyond the
 /// edge goes to them. The cells' bounds are the clamped interval's, so the fractions telescope to 1.
-fn overlaps(c: f64, h: f64, n: usize) -> (usize, Vec<f64>) {
+fn overlaps(c: f64, h: f64, n: usize) -> Overlaps {
     let (lo, hi) = (c - h, c + h);
     let last = n - 1;
     let i0 = (lo.floor().max(0.0) as usize).min(last);
@@ -245,8 +298,20 @@ fn overlaps(c: f64, h: f64, n: usize) -> (usize, Vec<f64>) {
             (i as f64).clamp(lo, hi)
         }
     };
-    let w = (i0..=i1)
-        .map(|i| (bound(i + 1) - bound(i)) / span)
-        .collect();
-    (i0, w)
+    let weight = |i: usize| (bound(i + 1) - bound(i)) / span;
+    let len = i1 - i0 + 1;
+    let mut out = Overlaps {
+        first: i0,
+        len,
+        inline: [0.0; Overlaps::INLINE],
+        spill: Vec::new(),
+    };
+    if len <= Overlaps::INLINE {
+        for (k, w) in out.inline.iter_mut().take(len).enumerate() {
+            *w = weight(i0 + k);
+        }
+    } else {
+        out.spill = (i0..=i1).map(weight).collect();
+    }
+    out
 }

@@ -82,7 +82,7 @@ use crate::sim::params::{Limiter, ParamError, Precision, WaterParams, MAX_WATER_
 
 use storage::{each, Coeffs, Fields, State};
 
-pub use sampling::EtaPatch;
+pub use sampling::{EtaPatch, PatchReader};
 
 /// Fraction of the Courant limit at which the automatic water step runs: r = 0.7/√2 ≈ 0.495 with axis
 /// pipes, r = 0.7·√3/2 ≈ 0.606 with diagonals. Below the limit by 30 %, and near the top, where the

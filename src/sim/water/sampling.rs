@@ -31,6 +31,83 @@ impl EtaPatch {
     }
 }
 
+/// Bilinear readings of a grid's surface through a current [`EtaPatch`], with the grid's bounds
+/// and the patch's column range turned into coordinates once: a point whose four columns the patch
+/// holds costs a few comparisons and four loads, and gives [`WaterGrid::surface_height`]'s value bit
+/// for bit (the same expressions); any other point is read from the grid as before.
+#[derive(Debug, Clone, Copy)]
+pub struct PatchReader<'a> {
+    grid: &'a WaterGrid,
+    patch: &'a EtaPatch,
+    /// The grid's extent, as [`WaterGrid::contains`] computes it.
+    lo: [f64; 2],
+    hi: [f64; 2],
+    cell: f64,
+    /// The fractional column coordinates f (as [`WaterGrid::bilinear`] forms them) whose four
+    /// columns lie in the patch without clamping: f ∈ [first, last).
+    first: [f64; 2],
+    last: [f64; 2],
+}
+
+impl<'a> PatchReader<'a> {
+    /// A reader of `grid` through `patch` (a stale or empty patch sends every reading to the grid).
+    pub fn new(grid: &'a WaterGrid, patch: &'a EtaPatch) -> Self {
+        let [ox, oy] = grid.cfg.origin;
+        let l = grid.cfg.cell;
+        let usable = patch.revision == grid.revision && patch.nx >= 2 && patch.ny >= 2;
+        let (first, last) = if usable {
+            (
+                [patch.ix0 as f64, patch.iy0 as f64],
+                [
+                    (patch.ix0 + patch.nx - 1) as f64,
+                    (patch.iy0 + patch.ny - 1) as f64,
+                ],
+            )
+        } else {
+            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2])
+        };
+        Self {
+            grid,
+            patch,
+            lo: [ox, oy],
+            hi: [ox + grid.cfg.nx as f64 * l, oy + grid.cfg.ny as f64 * l],
+            cell: l,
+            first,
+            last,
+        }
+    }
+
+    /// [`WaterGrid::surface_height`] at world (x, y).
+    #[inline]
+    pub fn height(&self, x: f64, y: f64) -> f64 {
+        if !(x >= self.lo[0] && y >= self.lo[1] && x < self.hi[0] && y < self.hi[1]) {
+            return 0.0;
+        }
+        let fx = (x - self.lo[0]) / self.cell - 0.5;
+        let fy = (y - self.lo[1]) / self.cell - 0.5;
+        // Inside the patch f ≥ 0 and f < n − 1, so `bilinear`'s clamps change nothing, its floor
+        // is the cast and i0 + 1 is the next column.
+        if !(fx >= self.first[0] && fx < self.last[0] && fy >= self.first[1] && fy < self.last[1]) {
+            return self.grid.surface_height_in(Some(self.patch), x, y);
+        }
+        // 0 ≤ f < n: the signed conversion is one instruction and the same floor.
+        let (i0, j0) = (fx as i64 as usize, fy as i64 as usize);
+        let (tx, ty) = (fx - i0 as f64, fy - j0 as f64);
+        let p = self.patch;
+        let at = (j0 - p.iy0) * p.nx + (i0 - p.ix0);
+        let (e00, e10) = (p.eta[at], p.eta[at + 1]);
+        let (e01, e11) = (p.eta[at + p.nx], p.eta[at + p.nx + 1]);
+        let a = e00 + tx * (e10 - e00);
+        let b = e01 + tx * (e11 - e01);
+        a + ty * (b - a)
+    }
+
+    /// [`WaterGrid::max_height_in`] over the rectangle [lo, hi].
+    pub fn max_height_over(&self, lo: [f64; 2], hi: [f64; 2]) -> Option<f64> {
+        self.grid.max_height_in(self.patch, lo, hi)
+    }
+}
+
 impl WaterGrid {
     /// Column indices and weights for bilinear sampling on column centres; points in the outer half
     /// cell take the edge column's value.
@@ -87,6 +164,32 @@ impl WaterGrid {
         let a = e00 + tx * (e10 - e00);
         let b = e01 + tx * (e11 - e01);
         a + ty * (b - a)
+    }
+
+    /// The highest η the surface ([`WaterGrid::surface_height`]) takes over the world rectangle
+    /// [lo, hi], from the columns `patch` holds: the bilinear surface at a point is a weighted
+    /// mean of the four columns [`WaterGrid::bilinear`] picks there, and those indices grow with
+    /// the coordinate, so the columns picked anywhere in the rectangle lie between those picked
+    /// at its corners; 0 counts where the rectangle reaches past the grid. `None` when the patch
+    /// is stale or does not hold those columns.
+    pub fn max_height_in(&self, patch: &EtaPatch, lo: [f64; 2], hi: [f64; 2]) -> Option<f64> {
+        if patch.revision != self.revision || !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
+            return None;
+        }
+        let [(i0, _, _), (j0, _, _)] = self.bilinear(lo[0], lo[1]);
+        let [(_, i1, _), (_, j1, _)] = self.bilinear(hi[0], hi[1]);
+        if !patch.holds(i0, i1, j0, j1) {
+            return None;
+        }
+        let inside = self.contains(lo[0], lo[1]) && self.contains(hi[0], hi[1]);
+        let mut m = if inside { f64::NEG_INFINITY } else { 0.0 };
+        for iy in j0..=j1 {
+            let row = (iy - patch.iy0) * patch.nx;
+            for &e in &patch.eta[row + (i0 - patch.ix0)..=row + (i1 - patch.ix0)] {
+                m = m.max(e);
+            }
+        }
+        Some(m)
     }
 
     /// Copies η of the columns [x0, x1] × [y0, y1] (clamped to the grid) into `patch`, tagged with

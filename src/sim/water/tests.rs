@@ -229,12 +229,43 @@ fn a_patch_of_heights_reads_like_the_grid() {
                 (k * 0.414_214).fract() * 18.0 - 2.0,
             )
         });
+        let reader = PatchReader::new(&w, &patch);
         for (x, y) in points.clone() {
             let (a, b) = (
                 w.surface_height_in(Some(&patch), x, y),
                 w.surface_height(x, y),
             );
             assert_eq!(a.to_bits(), b.to_bits(), "{p:?} at ({x}, {y})");
+            assert_eq!(
+                reader.height(x, y).to_bits(),
+                b.to_bits(),
+                "{p:?} reader at ({x}, {y})"
+            );
+        }
+        // The highest η over a rectangle inside the patch bounds the surface there and is reached
+        // at a column centre inside it; beyond the patch there is no answer.
+        for (k, (x, y)) in points.clone().take(300).enumerate() {
+            let (hx, hy) = (0.1 + 0.02 * (k % 97) as f64, 0.1 + 0.015 * (k % 89) as f64);
+            let (lo, hi) = ([x - hx, y - hy], [x + hx, y + hy]);
+            let held = lo[0] >= 4.5 && hi[0] < 17.5 && lo[1] >= 2.5 && hi[1] < 9.5;
+            let Some(m) = reader.max_height_over(lo, hi) else {
+                assert!(!held, "{lo:?} {hi:?} is inside the patch");
+                continue;
+            };
+            let mut seen = f64::NEG_INFINITY;
+            for i in 0..=40 {
+                for j in 0..=40 {
+                    let (px, py) = (
+                        lo[0] + 2.0 * hx * i as f64 / 40.0,
+                        lo[1] + 2.0 * hy * j as f64 / 40.0,
+                    );
+                    seen = seen.max(w.surface_height(px.min(hi[0]), py.min(hi[1])));
+                }
+            }
+            assert!(
+                seen <= m,
+                "{p:?}: {seen} above the bound {m} over {lo:?}..{hi:?}"
+            );
         }
         wake(&mut w, 12);
         w.step();
@@ -243,12 +274,78 @@ fn a_patch_of_heights_reads_like_the_grid() {
             patch.at(gx as usize, gy as usize) != w.eta(gx as usize, gy as usize)
         });
         assert!(moved, "the step changed the patch's columns");
+        let reader = PatchReader::new(&w, &patch);
         for (x, y) in points {
             let (a, b) = (
                 w.surface_height_in(Some(&patch), x, y),
                 w.surface_height(x, y),
             );
             assert_eq!(a.to_bits(), b.to_bits(), "{p:?} stale patch at ({x}, {y})");
+            assert_eq!(
+                reader.height(x, y).to_bits(),
+                b.to_bits(),
+                "{p:?} stale reader"
+            );
+        }
+        assert_eq!(
+            reader.max_height_over([5.0, 3.0], [6.0, 4.0]),
+            None,
+            "stale"
+        );
+    }
+}
+
+/// A face's load deposited at once (one footprint for both parts) leaves the grid as the two
+/// separate deposits do, bit for bit: points, boxes over one and many cells, at the edges, and the
+/// values each part ignores.
+#[test]
+fn a_load_deposited_at_once_is_the_two_deposits() {
+    for p in BOTH {
+        let mut a = grid_in(20, 9, false, Limiter::MassConserving, p);
+        let mut b = grid_in(20, 9, false, Limiter::MassConserving, p);
+        let loads = (0..400).map(|k| {
+            let f = k as f64;
+            let x = (f * 0.618_034).fract() * 22.0 - 1.0;
+            let y = (f * 0.414_214).fract() * 11.0 - 1.0;
+            let half = [0.0, 1e-9, 0.2, 0.45, 1.3, 6.0, f64::NAN][k % 7];
+            let impulse = [3.0, -1.5, 0.0, f64::INFINITY][k % 4];
+            let j = [
+                [0.4, -0.2],
+                [0.0, 0.0],
+                [f64::NAN, 1.0],
+                [1.0, 0.0],
+                [-2.0, 3.0],
+            ][k % 5];
+            (x, y, half, impulse, j)
+        });
+        for (step, chunk) in loads.collect::<Vec<_>>().chunks(50).enumerate() {
+            for &(x, y, half, impulse, j) in chunk {
+                a.deposit_load_box(x, y, half, impulse, j);
+                b.deposit_impulse_box(x, y, half, impulse);
+                b.deposit_momentum_box(x, y, half, j);
+            }
+            assert_eq!(
+                a.impulse_received().to_bits(),
+                b.impulse_received().to_bits()
+            );
+            a.step();
+            b.step();
+            assert_eq!(
+                a.momentum_received(),
+                b.momentum_received(),
+                "{p:?} step {step}"
+            );
+            for iy in 0..9 {
+                for ix in 0..20 {
+                    assert_eq!(a.eta(ix, iy).to_bits(), b.eta(ix, iy).to_bits());
+                    for pipe in 0..2 {
+                        assert_eq!(
+                            a.flow(ix, iy, pipe).to_bits(),
+                            b.flow(ix, iy, pipe).to_bits()
+                        );
+                    }
+                }
+            }
         }
     }
 }
