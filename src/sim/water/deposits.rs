@@ -286,8 +286,22 @@ impl Overlaps {
 fn overlaps(c: f64, h: f64, n: usize) -> Overlaps {
     let (lo, hi) = (c - h, c + h);
     let last = n - 1;
-    let i0 = (lo.floor().max(0.0) as usize).min(last);
-    let i1 = ((hi.ceil().max(1.0) as usize) - 1).clamp(i0, last);
+    // ⌊lo⌋ and ⌈hi⌉ without libm's floor and ceil (a call each on plain x86-64): the cast
+    // truncates, which is the floor for lo ≥ 0, and saturates at 0 below it and for NaN, as
+    // ⌊lo⌋.max(0) does; ⌈hi⌉ is the truncation, plus one when hi has a fraction, and 1 for
+    // hi ≤ 1 or NaN, as ⌈hi⌉.max(1) is.
+    let i0 = (lo.max(0.0) as usize).min(last);
+    let up = if hi > 1.0 {
+        let t = hi as usize;
+        if (t as f64) < hi {
+            t.saturating_add(1)
+        } else {
+            t
+        }
+    } else {
+        1
+    };
+    let i1 = (up - 1).clamp(i0, last);
     let span = hi - lo;
     let bound = |i: usize| {
         if i == 0 {
@@ -314,4 +328,44 @@ fn overlaps(c: f64, h: f64, n: usize) -> Overlaps {
         out.spill = (i0..=i1).map(weight).collect();
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    /// The first and last cells of [`super::overlaps`] are those of ⌊lo⌋ and ⌈hi⌉ themselves.
+    #[test]
+    fn overlap_cells_are_floor_and_ceil() {
+        let values = [
+            -3.5,
+            -1.0,
+            -0.5,
+            -0.0,
+            0.0,
+            0.25,
+            0.999_999_999,
+            1.0,
+            1.5,
+            2.0,
+            2.000_000_1,
+            7.0,
+            9.75,
+            11.0,
+            1e30,
+            f64::INFINITY,
+        ];
+        for &c in &values {
+            for h in [0.0, 0.1, 0.5, 1.0, 2.5] {
+                if !(c - h <= c + h) {
+                    continue;
+                }
+                let (lo, hi) = (c - h, c + h);
+                let last = 11;
+                let i0 = (lo.floor().max(0.0) as usize).min(last);
+                let i1 = ((hi.ceil().max(1.0) as usize) - 1).clamp(i0, last);
+                let o = super::overlaps(c, h, 12);
+                assert_eq!(o.first, i0, "c {c} h {h}");
+                assert_eq!(o.first + o.len - 1, i1, "c {c} h {h}");
+            }
+        }
+    }
 }
