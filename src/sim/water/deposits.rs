@@ -355,10 +355,10 @@ mod tests {
         ];
         for &c in &values {
             for h in [0.0, 0.1, 0.5, 1.0, 2.5] {
-                if !(c - h <= c + h) {
+                let (lo, hi) = (c - h, c + h);
+                if lo.is_nan() || hi.is_nan() {
                     continue;
                 }
-                let (lo, hi) = (c - h, c + h);
                 let last = 11;
                 let i0 = (lo.floor().max(0.0) as usize).min(last);
                 let i1 = ((hi.ceil().max(1.0) as usize) - 1).clamp(i0, last);
