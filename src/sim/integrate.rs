@@ -478,25 +478,14 @@ impl Probe<'_> {
         let width = b.t - a.t;
         let (za, zb) = (a.state.position.z, b.state.position.z);
         let (ga, gb) = (a.c - za, b.c - zb);
-        let dip = bound.lift * width * (width + AIR_SUBSTEP) * 0.25;
-        let mut g_min = lowest_between(ga, gb, bound.rate * width);
-        if let Some(r) = bound.revolution {
-            g_min = g_min.max(lowest_between(ga - r.facet, gb - r.facet, r.rate * width));
-        }
-        let low = za.min(zb) - dip;
+        let g_min = lowest_of_both((ga, gb), bound.rate, bound.revolution, width);
+        let low = za.min(zb) - air_bow(bound.lift, width);
         if low + g_min.max(bound.floor) > 0.0 {
             return true;
         }
         let Some(w) = self.wave else { return false };
-        let mut rise = lowest_between(a.rise, b.rise, w.rate * width);
-        if let Some(r) = w.revolution {
-            rise = rise.max(lowest_between(
-                a.rise - r.facet,
-                b.rise - r.facet,
-                r.rate * width,
-            ));
-        }
-        let reach = w.radius + w.drift * width * (width + AIR_SUBSTEP) * 0.25;
+        let rise = lowest_of_both((a.rise, b.rise), w.rate, w.revolution, width);
+        let reach = w.radius + air_bow(w.drift, width);
         let (pa, pb) = (a.state.position, b.state.position);
         let lo = [pa.x.min(pb.x) - reach, pa.y.min(pb.y) - reach];
         let hi = [pa.x.max(pb.x) + reach, pa.y.max(pb.y) + reach];
@@ -559,6 +548,26 @@ pub fn first_touch(
         return (b.c <= 0.0).then_some((0.0, h));
     }
     probe.search(a, b, 0)
+}
+
+/// How far a flight under an acceleration of at most `accel` (the air's, kicked every substep)
+/// can bow from its chord over an interval of `width`: `accel · w (w + AIR_SUBSTEP) / 4`.
+fn air_bow(accel: f64, width: f64) -> f64 {
+    accel * width * (width + AIR_SUBSTEP) * 0.25
+}
+
+/// [`lowest_between`] of a quantity that changes at most at `rate`, or, for a body of revolution,
+/// at `revolution.rate` once its ends are lowered by the facet gap: the better of the two bounds.
+fn lowest_of_both(
+    (ga, gb): (f64, f64),
+    rate: f64,
+    revolution: Option<RevolutionBound>,
+    width: f64,
+) -> f64 {
+    let plain = lowest_between(ga, gb, rate * width);
+    revolution.map_or(plain, |r| {
+        plain.max(lowest_between(ga - r.facet, gb - r.facet, r.rate * width))
+    })
 }
 
 /// The lowest value over an interval of a function that is `ga` and `gb` at its ends and changes

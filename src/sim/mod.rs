@@ -1107,21 +1107,10 @@ impl StepContext<'_> {
         let radius = stone.bounding_radius;
         let mut bound =
             FlightBound::new(radius, speed_h, omega, self.slope, max_eta).with_air(a_air);
-        let (mut perp_rate, mut flat_facet) = (f64::INFINITY, f64::INFINITY);
-        if let (Rotation::Free, Some(facet), Some(flat)) = (
-            self.dy.rotation,
-            stone.kernel.facet_gap(self.slope),
-            stone.kernel.facet_gap(0.0),
-        ) {
-            if stone.is_axisymmetric() {
-                // The symmetry axis turns at |ω⊥| = |L × a| / I₁; the air's moment changes
-                // |L × a| by at most its own size.
-                let a = s.orientation * DVec3::Z;
-                let m = stone.principal_moments();
-                let perp = (s.angular_momentum.cross(a).length() + m_air * h) / m.x.min(m.y);
-                bound = bound.with_revolution(radius, speed_h, perp, self.slope, facet);
-                (perp_rate, flat_facet) = (perp * radius, flat);
-            }
+        let axis = self.axis_turn(s, m_air * h);
+        if let Some((perp, _)) = axis {
+            let facet = stone.kernel.facet_gap(self.slope).unwrap_or(f64::INFINITY);
+            bound = bound.with_revolution(radius, speed_h, perp, self.slope, facet);
         }
         // At the origin no early-out applies: the lowest vertex's offset itself.
         let rise =
@@ -1132,9 +1121,9 @@ impl StepContext<'_> {
             crest: &crest,
             radius,
             rate: omega * radius,
-            revolution: bound.revolution.map(|_| RevolutionBound {
-                rate: perp_rate,
-                facet: flat_facet,
+            revolution: axis.map(|(perp, flat)| RevolutionBound {
+                rate: perp * radius,
+                facet: flat,
             }),
             drift: a_air,
         });
@@ -1146,6 +1135,24 @@ impl StepContext<'_> {
             s,
             h,
         )
+    }
+
+    /// For a free body of revolution: a bound of the angular speed of its symmetry axis over a
+    /// flight from `s` whose torques change the angular momentum by at most `kick` (N·m·s), and
+    /// the facet gap of its rings on flat water. The axis turns at |ω⊥| = |L × a| / I₁, and a
+    /// torque changes |L × a| by at most its own size. `None` for any other body or rotation.
+    fn axis_turn(&self, s: &BodyState, kick: f64) -> Option<(f64, f64)> {
+        let stone = self.dy.stone;
+        if self.dy.rotation != Rotation::Free || !stone.is_axisymmetric() {
+            return None;
+        }
+        let flat = stone.kernel.facet_gap(0.0)?;
+        let a = s.orientation * DVec3::Z;
+        let m = stone.principal_moments();
+        Some((
+            (s.angular_momentum.cross(a).length() + kick) / m.x.min(m.y),
+            flat,
+        ))
     }
 
     /// The contact step of this context's integrator from `s` (derivative `k1`) over `h`, with
