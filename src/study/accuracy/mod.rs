@@ -176,6 +176,14 @@ pub const REF_TICK: f64 = 5e-4;
 pub fn shipped_tick() -> f64 {
     Preset::default().physics.dt
 }
+/// The shipped default throw (`assets/presets/default.ron`, as compiled in): its lens and its
+/// lake are what the app shows, and the study's text compares them with the built-in defaults it
+/// runs (`Preset::default()`). `None` if the compiled-in file does not load (a test catches that).
+pub fn shipped_default() -> Option<Preset> {
+    let (_, text) = super::fidelity::SHIPPED[0];
+    crate::preset::parse(text, std::path::Path::new("assets/presets/default.ron")).ok()
+}
+
 /// Tolerance of the reference runs.
 pub const REF_TOLERANCE: f64 = 1e-12;
 
@@ -434,7 +442,8 @@ pub fn water_cells(quick: bool) -> Vec<f64> {
     if quick {
         vec![0.2, 0.1, 0.05]
     } else {
-        // Halving from 16 cm to the finest cell the presets accept (5 mm), plus the shipped 5 cm.
+        // Halving from 16 cm to the finest cell the presets accept (5 mm), plus the built-in 5 cm;
+        // 2 cm is the shipped presets' cell.
         vec![0.16, 0.08, 0.05, 0.04, 0.02, 0.01, 0.005]
     }
 }
@@ -629,4 +638,20 @@ pub fn compute(ctx: &Ctx) -> Result<Results, StudyError> {
 pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
     let res = compute(ctx)?;
     report::write(ctx, &res)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The report compares the shipped default's lens and cell with the swept ones: the compiled-in
+    /// preset loads, and the full sweeps include its segments and its cell.
+    #[test]
+    fn the_shipped_lens_and_cell_are_in_the_full_sweeps() {
+        let p = shipped_default().expect("assets/presets/default.ron loads");
+        assert!(mesh_segments(false).contains(&p.stone.segments));
+        assert!(water_cells(false)
+            .iter()
+            .any(|&c| (c - p.water.cell).abs() < 1e-12));
+    }
 }
