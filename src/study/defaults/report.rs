@@ -108,7 +108,7 @@ fn adaptive_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
     .legend(Legend::UpperLeft)
     .line(RefLine::h("1 %", TARGET, colors::GREY))
     .line(RefLine::v(
-        "shipped tolerance",
+        "built-in tolerance",
         d.physics.tolerance,
         colors::BLACK,
     ));
@@ -122,7 +122,7 @@ fn adaptive_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
     .y_range(100.0, 2e5)
     .legend(Legend::LowerLeft)
     .line(RefLine::v(
-        "shipped tolerance",
+        "built-in tolerance",
         d.physics.tolerance,
         colors::BLACK,
     ));
@@ -175,7 +175,7 @@ fn resolution_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
     .legend(Legend::LowerLeft)
     .line(RefLine::h("1 %", TARGET, colors::GREY))
     .line(RefLine::v(
-        "shipped",
+        "built-in",
         f64::from(d.stone.segments),
         colors::BLACK,
     ));
@@ -199,7 +199,7 @@ fn resolution_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
         .log_y()
         .legend(Legend::LowerRight)
         .line(RefLine::h("1 %", TARGET, colors::GREY))
-        .line(RefLine::v("shipped", d.water.cell, colors::BLACK))
+        .line(RefLine::v("built-in", d.water.cell, colors::BLACK))
         .series(Series::new(
             "η averaged over 20 cm (L2)",
             water
@@ -248,7 +248,7 @@ fn summary_md(ctx: &Ctx, res: &Results) -> String {
             fmt_opt(rec.tolerance),
             sig(d.physics.tolerance, 2),
             tol_cost.map_or("–".into(), |c| {
-                format!("{c} force evals for the throws, against {shipped_cost} shipped")
+                format!("{c} force evals for the throws, against {shipped_cost} at the built-in default")
             }),
         ],
         vec![
@@ -287,7 +287,12 @@ fn summary_md(ctx: &Ctx, res: &Results) -> String {
         ],
     ];
     s.push_str(&md_table(
-        &["setting", "cheapest under 1 %", "shipped default", "note"],
+        &[
+            "setting",
+            "cheapest under 1 %",
+            "built-in default (`Preset::default()`)",
+            "note",
+        ],
         &rows,
     ));
     s.push_str("\n![defaults](defaults.png)\n\n");
@@ -514,13 +519,13 @@ fn verdict(
             let same = (tl - tol).abs() <= 1e-3 * tol && (tk - tick).abs() <= 1e-3 * tick;
             if same {
                 s.push_str(&format!(
-                    "- Integrator: the shipped tolerance {} and tick {} s are the cheapest pair under 1 %; keep them.\n",
+                    "- Integrator: the built-in tolerance {} and tick {} s are the cheapest pair under 1 %; keep them.\n",
                     sig(tol, 1),
                     sig(tick, 2)
                 ));
             } else {
                 s.push_str(&format!(
-                    "- Integrator: the cheapest pair under 1 % with a tick of at most one 60 Hz frame is tolerance {} and tick {} s; the shipped pair (tolerance {}, tick {} s) {}.\n",
+                    "- Integrator: the cheapest pair under 1 % with a tick of at most one 60 Hz frame is tolerance {} and tick {} s; the built-in pair (tolerance {}, tick {} s, which every shipped preset but `paper.ron` keeps) {}.\n",
                     sig(tl, 1),
                     sig(tk, 3),
                     sig(tol, 1),
@@ -539,7 +544,7 @@ fn verdict(
     }
     match rec.segments {
         Some(n) if d.stone.segments >= n => s.push_str(&format!(
-            "- Segments: the shipped {} meet 1 % (the cheapest is {}).\n",
+            "- Segments: the built-in {} meet 1 % (the cheapest is {}).\n",
             d.stone.segments, n
         )),
         Some(n) => {
@@ -568,7 +573,7 @@ fn verdict(
                 .collect();
             let tri = |k: u32| mesh.iter().find(|m| m.segments == k).map(|m| m.triangles);
             s.push_str(&format!(
-                "- Segments: the shipped {} do not meet 1 % on every throw; use {} ({} triangles against {}, so each force evaluation in contact costs about {}× as much). Per throw, the cheapest mesh under 1 %: {}.\n",
+                "- Segments: the built-in {} do not meet 1 % on every throw; use {} ({} triangles against {}, so each force evaluation in contact costs about {}× as much). Per throw, the cheapest mesh under 1 %: {}.\n",
                 d.stone.segments,
                 n,
                 tri(n).map_or("?".into(), |t| t.to_string()),
@@ -585,17 +590,17 @@ fn verdict(
     let cell = d.water.cell;
     match (rec.cell, rec.cell_10pct) {
         (Some(c), _) if cell <= c * 1.0001 => s.push_str(&format!(
-            "- Water cell: the shipped {} m meets 1 % (the cheapest is {} m).\n",
+            "- Water cell: the built-in {} m meets 1 % (the cheapest is {} m).\n",
             sig(cell, 2),
             sig(c, 2)
         )),
         (Some(c), _) => s.push_str(&format!(
-            "- Water cell: the shipped {} m does not meet 1 %; {} m does.\n",
+            "- Water cell: the built-in {} m does not meet 1 %; {} m does.\n",
             sig(cell, 2),
             sig(c, 2)
         )),
         (None, Some(c10)) => s.push_str(&format!(
-            "- Water cell: no cell coarser than the reference meets 1 % in the surface field; {} m is the coarsest under 10 % (shipped {} m: {}).\n",
+            "- Water cell: no cell coarser than the reference meets 1 % in the surface field; {} m is the coarsest under 10 % (built-in {} m: {}).\n",
             sig(c10, 2),
             sig(cell, 2),
             if cell <= c10 * 1.0001 { "within 10 %" } else { "coarser than that" }
@@ -603,7 +608,7 @@ fn verdict(
         (None, None) => {
             let at = water.iter().find(|w| (w.cell - cell).abs() < 1e-12);
             s.push_str(&format!(
-                "- Water cell: the surface field does not converge in the sweep (accuracy study: the rings keep sharpening down to 5 mm), so no cell meets 1 % or even 10 %: the cell is a cost-and-looks choice, not an accuracy one. The shipped {} m{}. Keep `wavy_contact` off at this cell{}.\n",
+                "- Water cell: the surface field does not converge in the sweep (accuracy study: the rings keep sharpening down to 5 mm), so no cell meets 1 % or even 10 %: the cell is a cost-and-looks choice, not an accuracy one. The built-in {} m{}. Keep `wavy_contact` off at this cell{}; the shipped presets that turn it on use 2 cm cells, where it is still not converged (accuracy study, water cell size).\n",
                 sig(cell, 2),
                 at.map_or(String::new(), |w| format!(
                     " runs the 6 m × 3 m test scene, stone included, at {} s per simulated second",
