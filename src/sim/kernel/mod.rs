@@ -629,35 +629,35 @@ impl Sorted {
 /// Signed heights of the vertices above a wavy surface, each looked up once per evaluation.
 #[derive(Debug, Clone, Default)]
 struct VertexHeights {
-    d: Vec<f64>,
-    stamp: Vec<u32>,
+    /// (d, the generation it was computed in) per vertex: one slot, one bounds check.
+    slots: Vec<(f64, u32)>,
     generation: u32,
 }
 
 impl VertexHeights {
     fn start(&mut self, count: usize) {
-        if self.d.len() != count {
-            self.d = vec![0.0; count];
-            self.stamp = vec![0; count];
+        if self.slots.len() != count {
+            self.slots = vec![(0.0, 0); count];
             self.generation = 0;
         }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
-            self.stamp.fill(0);
+            self.slots.fill((0.0, 0));
             self.generation = 1;
         }
     }
 
-    /// d = w.z − η(w.x, w.y) of vertex `i` at world point `world()`.
-    #[inline]
+    /// d = w.z − η(w.x, w.y) of vertex `i` at world point `world()` (inlined into the face loops:
+    /// called three times a classified face, it is most of their cost).
+    #[inline(always)]
     fn get(&mut self, i: u32, surface: &dyn Surface, world: impl FnOnce() -> DVec3) -> f64 {
-        let i = i as usize;
-        if self.stamp[i] != self.generation {
+        let generation = self.generation;
+        let slot = &mut self.slots[i as usize];
+        if slot.1 != generation {
             let w = world();
-            self.d[i] = w.z - surface.height(w.x, w.y);
-            self.stamp[i] = self.generation;
+            *slot = (w.z - surface.height(w.x, w.y), generation);
         }
-        self.d[i]
+        slot.0
     }
 }
 
@@ -1854,9 +1854,12 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
                 if (z + s.zmin[i]) - max_h > 0.0 {
                     continue; // surely dry
                 }
-                let d = faces.verts[i].map(|v| {
+                let verts = faces.verts[i];
+                let mut h = |k: usize| {
+                    let v = verts[k];
                     heights.get(v, call.surface, || pose.position + s.offsets[v as usize])
-                });
+                };
+                let d = [h(0), h(1), h(2)];
                 any |= classify::<LAW, ROT>(&c, faces, i, d, wet, &mut acc, loads);
             }
         }
@@ -1922,8 +1925,10 @@ fn body_path<const LAW: u8>(
                 [h(0), h(1), h(2)]
             } else {
                 let (verts, position) = (faces.verts[i], pose.position);
-                [0, 1, 2]
-                    .map(|k| heights.get(verts[k], surface, || position + rot * faces.corner(k, i)))
+                let mut h = |k: usize| {
+                    heights.get(verts[k], surface, || position + rot * faces.corner(k, i))
+                };
+                [h(0), h(1), h(2)]
             };
             in_contact |= classify::<LAW, true>(&c, faces, i, d, wet, &mut acc, loads);
         }

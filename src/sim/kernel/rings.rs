@@ -447,10 +447,13 @@ pub(super) fn ring_path<const LAW: u8>(
                         let h = |k: usize| z + dot(u, faces.corner(k, i));
                         [h(0), h(1), h(2)]
                     } else {
+                        // Three calls in order, not `[0, 1, 2].map`: the array map's closure
+                        // is not inlined here and costs more than the lookups it makes.
                         let (verts, position) = (faces.verts[i], pose.position);
-                        [0, 1, 2].map(|k| {
+                        let mut h = |k: usize| {
                             heights.get(verts[k], surface, || position + rot * faces.corner(k, i))
-                        })
+                        };
+                        [h(0), h(1), h(2)]
                     };
                     match dd.iter().filter(|&&x| x <= 0.0).count() {
                         0 => continue,
