@@ -608,7 +608,7 @@ fn verdict(
         (None, None) => {
             let at = water.iter().find(|w| (w.cell - cell).abs() < 1e-12);
             s.push_str(&format!(
-                "- Water cell: the surface field does not converge in the sweep (accuracy study: the rings keep sharpening down to 5 mm), so no cell meets 1 % or even 10 %: the cell is a cost-and-looks choice, not an accuracy one. The built-in {} m{}. Keep `wavy_contact` off at this cell{}; the shipped presets that turn it on use 2 cm cells, where it is still not converged (accuracy study, water cell size).\n",
+                "- Water cell: the surface field does not converge in the sweep (accuracy study: the rings keep sharpening down to 5 mm), so no cell meets 1 % or even 10 %: the cell is a cost-and-looks choice, not an accuracy one. The built-in {} m{}. Keep `wavy_contact` off at this cell{}; the shipped presets that turn it on use finer cells (the table above), where it is still not converged (accuracy study, water cell size).\n",
                 sig(cell, 2),
                 at.map_or(String::new(), |w| format!(
                     " runs the 6 m × 3 m test scene, stone included, at {} s per simulated second",
