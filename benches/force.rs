@@ -38,6 +38,7 @@ fn lens(segments: u32) -> Stone {
         },
         mass: 0.1,
         segments,
+        bands: None,
     })
     .expect("valid stone")
 }

@@ -99,10 +99,26 @@ fn stones() -> Vec<(String, Stone)> {
                 shape,
                 mass: 0.1,
                 segments,
+                bands: None,
             })
             .expect("valid stone");
             out.push((format!("{shape:?}/{segments}"), stone));
         }
+    }
+    // A lens whose latitude bands a preset names (`stone.bands`): coarser and finer than the
+    // default half of the segments.
+    for (segments, bands) in [(48, 12), (40, 48)] {
+        let stone = Stone::new(&StoneParams {
+            shape: Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            mass: 0.1,
+            segments,
+            bands: Some(bands),
+        })
+        .expect("valid stone");
+        out.push((format!("Lens/{segments}x{bands}"), stone));
     }
     out
 }

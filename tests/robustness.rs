@@ -97,6 +97,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                     shape,
                     mass,
                     segments,
+                    bands: None,
                 };
                 let (e, h) = (elev.to_radians(), heading.to_radians());
                 p.launch.position = [0.0, 0.0, z];

@@ -118,6 +118,7 @@ fn dzhanibekov_flip_only_about_intermediate_axis() {
         },
         mass: 0.2,
         segments: 8,
+        bands: None,
     })
     .unwrap();
     let m = stone.principal_moments();
@@ -377,6 +378,7 @@ fn tumbling_stone_grazes_inside_a_tick() {
             },
             mass: 0.1,
             segments: 48,
+            bands: None,
         };
         p.physics.rotation = Rotation::Free;
         p.physics.integrator = integrator;

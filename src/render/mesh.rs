@@ -120,6 +120,7 @@ mod tests {
                 shape,
                 mass: 0.1,
                 segments: 24,
+                bands: None,
             })
             .unwrap();
             let v = stone_vertices(&stone.mesh);

@@ -18,6 +18,8 @@
 //!   about its axis a moves only along itself: the normal velocity is taken from V + ω_⊥ × r with
 //!   ω_⊥ = ω − (ω·a)a, and the pressure's torque about a (zero on the smooth body) is removed, so the
 //!   facets neither paddle the water nor spin the stone up; friction still sees the full ω × r.
+//!   `axial_spin: Resal` is the same law on a mesh that meets the water without turning with the
+//!   spin (`integrate::mesh_orientation`): the pose this module gets is then already in that frame.
 //! - `buoyancy: true` — hydrostatic pressure ρ g d on each loaded face (Archimedes; d the depth of the
 //!   wetted centroid below the surface, exact for pressure linear in depth over a planar polygon),
 //!   along −N: the buoyant term of planing lift (Savitsky 1964's second term; Hewitt et al. 2011).
@@ -28,9 +30,7 @@ use glam::{DQuat, DVec3};
 
 use super::contact::{clip_triangle, WettedPatch};
 use super::kernel::{self, KernelScratch};
-use super::params::{
-    AxialSpin, ForceLaw, Hydrostatic, Physics, PressureCentre, PressureSign, Shape,
-};
+use super::params::{ForceLaw, Hydrostatic, Physics, PressureCentre, PressureSign, Shape};
 use super::stone::Stone;
 
 /// The constants of one force evaluation.
@@ -69,7 +69,7 @@ impl HydroParams {
                 PressureCentre::Planing(f) => Some(f),
             },
             opposing: p.pressure_sign == PressureSign::OpposesMotion,
-            smooth_spin: p.axial_spin == AxialSpin::Smooth,
+            smooth_spin: p.axial_spin.is_smooth(),
             rho_g: if p.buoyancy {
                 p.water_density * p.gravity
             } else {
@@ -631,6 +631,7 @@ mod tests {
             },
             mass: 0.1,
             segments: 24,
+            bands: None,
         })
         .unwrap()
     }
@@ -733,6 +734,7 @@ mod tests {
             },
             mass: 0.1,
             segments: 32,
+            bands: None,
         })
         .unwrap();
         let q = DQuat::from_rotation_y(-0.35);
@@ -781,6 +783,7 @@ mod tests {
             },
             mass: 0.1,
             segments: 8,
+            bands: None,
         })
         .unwrap();
         let pose = Pose {

@@ -9,12 +9,16 @@
 //! The state is a rigid body: position, velocity, orientation (unit quaternion, stone → world) and
 //! angular momentum (world frame). With `Rotation::Locked` the attitude is held (ω = 0, the paper's
 //! model); with `Free` Euler's equations turn the torque into spin, precession and pitch.
+//! With `axial_spin: Resal` a free disk or lens meets the water in a Résal frame, as gyroscope
+//! theory calls a frame that follows the symmetry axis but not the spin about it, its azimuth
+//! held to the flow ([`mesh_orientation`]). That is a choice of where the facets of the smooth
+//! body's mesh lie, not new physics: the body's dynamics (axisymmetric inertia) do not change.
 
 use glam::{DMat3, DQuat, DVec3, DVec4};
 
 use super::air::{Air, AIR_SUBSTEP};
 use super::hydro::{evaluate, ForceSum, HydroParams, Pose, Scratch, Surface};
-use super::params::Rotation;
+use super::params::{AxialSpin, Rotation, Shape};
 use super::stone::Stone;
 
 /// The stone's dynamical state.
@@ -100,6 +104,32 @@ pub struct Dynamics<'a> {
     pub surface: &'a dyn Surface,
     /// Whether a `record` evaluation stores the face loads (false when no water reads them).
     pub record_loads: bool,
+    /// The mesh meets the water in the Résal frame ([`resal_frame`]).
+    pub resal: bool,
+}
+
+/// Whether a stone meets the water in the Résal frame: `axial_spin: Resal`, free rotation, a
+/// disk or a lens (a body of revolution, its inertia axisymmetric for any segment count ≥ 3).
+pub fn resal_applies(stone: &Stone, rotation: Rotation, axial_spin: AxialSpin) -> bool {
+    axial_spin == AxialSpin::Resal
+        && rotation == Rotation::Free
+        && matches!(stone.shape, Shape::Disk { .. } | Shape::Lens { .. })
+}
+
+/// The orientation the mesh meets the water at: the stone's own, or with `resal` the Résal frame
+/// (`axial_spin: Resal`): the stone's turned about its symmetry axis so that the velocity's
+/// component in the stone's plane points along the mesh's azimuth 0 (body x). Same symmetry
+/// axis, so the same smooth body; the faceted mesh no longer turns with the spin. The stone's
+/// own orientation when the velocity is along the axis (no azimuth to hold).
+pub fn mesh_orientation(resal: bool, s: &BodyState) -> DQuat {
+    if !resal {
+        return s.orientation;
+    }
+    let vb = s.orientation.inverse() * s.velocity;
+    if vb.x == 0.0 && vb.y == 0.0 {
+        return s.orientation;
+    }
+    s.orientation * DQuat::from_rotation_z(vb.y.atan2(vb.x))
 }
 
 impl Dynamics<'_> {
@@ -108,11 +138,12 @@ impl Dynamics<'_> {
         angular_velocity(self.stone, self.rotation, s)
     }
 
+    /// The pose the water sees: the state, its mesh in [`mesh_orientation`].
     pub fn pose(&self, s: &BodyState) -> Pose {
         Pose {
             position: s.position,
             velocity: s.velocity,
-            orientation: s.orientation,
+            orientation: mesh_orientation(self.resal, s),
             angular_velocity: self.angular_velocity(s),
         }
     }
@@ -889,8 +920,82 @@ mod tests {
             },
             mass: 0.1,
             segments: 32,
+            bands: None,
         })
         .unwrap()
+    }
+
+    /// `axial_spin: Resal`: the water sees the same body whatever the spin's phase. Turning the
+    /// stone about its own axis (what the spin does between two evaluations) leaves the force and
+    /// torque unchanged to rounding, where the mesh turning with the spin (`Smooth`) changes
+    /// them by the facets' ripple; the Résal frame keeps the symmetry axis and holds the in-plane
+    /// velocity at azimuth 0.
+    #[test]
+    fn the_resal_frame_takes_the_spin_phase_out_of_the_force() {
+        use crate::sim::hydro::FlatSurface;
+        use crate::sim::params::{AxialSpin, Physics};
+        let stone = Stone::new(&StoneParams {
+            shape: Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            mass: 0.1,
+            segments: 32,
+            bands: None,
+        })
+        .unwrap();
+        let dynamics = |axial_spin: AxialSpin| {
+            let physics = Physics {
+                rotation: Rotation::Free,
+                axial_spin,
+                buoyancy: true,
+                ..Physics::default()
+            };
+            Dynamics {
+                stone: &stone,
+                hydro: HydroParams::from_physics(&physics),
+                gravity: 9.81,
+                rotation: Rotation::Free,
+                surface: &FlatSurface,
+                record_loads: false,
+                resal: resal_applies(&stone, Rotation::Free, axial_spin),
+            }
+        };
+        let (resal, smooth) = (dynamics(AxialSpin::Resal), dynamics(AxialSpin::Smooth));
+        assert!(resal.resal && !smooth.resal);
+        let mut scratch = Scratch::default();
+        let (mut ripple, mut worst) = (0.0f64, 0.0f64);
+        for k in 0..24 {
+            let mut s = thrown(&stone, 90.0);
+            s.position.z = -0.002;
+            let phase = 0.37 * k as f64;
+            let turned = BodyState {
+                orientation: s.orientation * DQuat::from_rotation_z(phase),
+                ..s
+            };
+            let q = mesh_orientation(true, &turned);
+            assert!((q * DVec3::Z - s.orientation * DVec3::Z).length() < 1e-12);
+            let vb = q.inverse() * s.velocity;
+            assert!(vb.y.abs() < 1e-12 * vb.length() && vb.x > 0.0, "{vb}");
+            let mut force = |d: &Dynamics, st: &BodyState| {
+                let (_, f) = d.derivative(st, &mut scratch, false);
+                (f.force, f.torque)
+            };
+            let (f0, t0) = force(&resal, &s);
+            let (f1, t1) = force(&resal, &turned);
+            assert!(f0.length() > 1.0, "in contact: {f0}");
+            worst = worst
+                .max((f1 - f0).length() / f0.length())
+                .max((t1 - t0).length() / t0.length());
+            let (g0, _) = force(&smooth, &s);
+            let (g1, _) = force(&smooth, &turned);
+            ripple = ripple.max((g1 - g0).length() / g0.length());
+        }
+        assert!(worst < 1e-12, "Résal: {worst}");
+        assert!(
+            ripple > 1e-6,
+            "Smooth turns its facets with the spin: {ripple}"
+        );
     }
 
     #[test]

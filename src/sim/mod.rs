@@ -38,8 +38,9 @@ use hydro::{
     Surface,
 };
 use integrate::{
-    first_touch, fly, step_dp5, step_paper, step_rk4, step_symplectic_euler, BodyState, Deriv,
-    Dynamics, ErrorScales, FlightBound, RevolutionBound, WaveBound,
+    first_touch, fly, mesh_orientation, resal_applies, step_dp5, step_paper, step_rk4,
+    step_symplectic_euler, BodyState, Deriv, Dynamics, ErrorScales, FlightBound, RevolutionBound,
+    WaveBound,
 };
 use params::{Integrator, ParamError, Physics, Preset, Rotation, Shape};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
@@ -722,7 +723,14 @@ impl Simulation {
     }
 
     fn clearance(&self, s: &BodyState) -> f64 {
-        lowest_clearance(&self.stone, s.position, s.orientation, &self.surface())
+        let q = mesh_orientation(self.resal(), s);
+        lowest_clearance(&self.stone, s.position, q, &self.surface())
+    }
+
+    /// Whether the stone meets the water in the Résal frame (`axial_spin: Resal`).
+    fn resal(&self) -> bool {
+        let p = &self.preset.physics;
+        resal_applies(&self.stone, p.rotation, p.axial_spin)
     }
 
     fn start_event(&self, t: f64, s: &BodyState) -> ContactEvent {
@@ -853,6 +861,7 @@ impl Simulation {
                 rotation: physics.rotation,
                 surface: &surface,
                 record_loads: self.water_takes_loads(),
+                resal: self.resal(),
             },
             integrator: physics.integrator,
             tolerance: physics.tolerance,
@@ -1066,11 +1075,13 @@ struct StepContext<'a> {
 
 impl StepContext<'_> {
     fn clear(&self, st: &BodyState) -> f64 {
-        lowest_clearance(self.dy.stone, st.position, st.orientation, self.dy.surface)
+        let q = mesh_orientation(self.dy.resal, st);
+        lowest_clearance(self.dy.stone, st.position, q, self.dy.surface)
     }
 
     fn submerged(&self, st: &BodyState) -> bool {
-        underside_submerged(self.dy.stone, st.position, st.orientation, self.dy.surface)
+        let q = mesh_orientation(self.dy.resal, st);
+        underside_submerged(self.dy.stone, st.position, q, self.dy.surface)
     }
 
     fn flight(&self, s: &BodyState, t: f64) -> BodyState {
@@ -1113,8 +1124,10 @@ impl StepContext<'_> {
             bound = bound.with_revolution(radius, speed_h, perp, self.slope, facet);
         }
         // At the origin no early-out applies: the lowest vertex's offset itself.
-        let rise =
-            |st: &BodyState| lowest_clearance(stone, DVec3::ZERO, st.orientation, &FlatSurface);
+        let rise = |st: &BodyState| {
+            let q = mesh_orientation(self.dy.resal, st);
+            lowest_clearance(stone, DVec3::ZERO, q, &FlatSurface)
+        };
         let crest = |lo: [f64; 2], hi: [f64; 2]| self.dy.surface.max_height_over(lo, hi);
         let wave = (!self.dy.surface.is_flat()).then(|| WaveBound {
             rise: &rise,
@@ -1247,8 +1260,8 @@ fn fixed_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
 /// (m): the underside is submerged (design.md §4 "sank", [`underside_submerged`]) exactly when this
 /// is negative; +∞ without a downward face. Continuous in the state, so the sinking instant can be
 /// found by a secant method.
-fn underside_height(stone: &Stone, st: &BodyState, surface: &dyn Surface) -> f64 {
-    let rot = DMat3::from_quat(st.orientation);
+fn underside_height(stone: &Stone, resal: bool, st: &BodyState, surface: &dyn Surface) -> f64 {
+    let rot = DMat3::from_quat(mesh_orientation(resal, st));
     let mut highest = f64::NEG_INFINITY;
     let mut any_down = false;
     for (t, tri) in stone.mesh.triangles.iter().enumerate() {
@@ -1281,7 +1294,7 @@ fn locate_sink(cx: &StepContext, m: &mut Motion, prev: &BodyState, k1: &Deriv, s
     if cx.submerged(prev) {
         return Step { sunk: true, ..step };
     }
-    let height = |st: &BodyState| underside_height(cx.dy.stone, st, cx.dy.surface);
+    let height = |st: &BodyState| underside_height(cx.dy.stone, cx.dy.resal, st, cx.dy.surface);
     let eps = 1e-9 * cx.dy.stone.bounding_radius;
     let (mut lo, mut f_lo) = (0.0, height(prev).max(0.0));
     let (mut hi, mut f_hi) = (step.h, height(&step.state).min(0.0));

@@ -97,12 +97,18 @@ pub fn mass_properties(mesh: &Mesh, mass: f64) -> MassProperties {
     }
 }
 
-/// Builds the mesh of a shape, not yet centred.
-pub fn build_mesh(shape: &Shape, segments: u32) -> Mesh {
+/// A lens's latitude bands: `bands` when a preset names it, else half the segments; at least 4.
+fn lens_bands(n: usize, bands: Option<u32>) -> usize {
+    bands.map_or(n / 2, |b| b as usize).max(4)
+}
+
+/// Builds the mesh of a shape, not yet centred: `segments` around, and for a lens `bands`
+/// latitude bands ([`lens_bands`]).
+pub fn build_mesh(shape: &Shape, segments: u32, bands: Option<u32>) -> Mesh {
     let n = segments.max(3) as usize;
     match *shape {
         Shape::Disk { radius, thickness } => disk_mesh(radius, thickness, n),
-        Shape::Lens { radius, thickness } => lens_mesh(radius, thickness, n),
+        Shape::Lens { radius, thickness } => lens_mesh(radius, thickness, n, lens_bands(n, bands)),
         Shape::Plate {
             length,
             width,
@@ -126,7 +132,11 @@ pub struct RevolutionLayout {
 }
 
 /// The layout of [`build_mesh`]'s mesh for a disk or a lens; `None` for a plate.
-pub fn revolution_layout(shape: &Shape, segments: u32) -> Option<RevolutionLayout> {
+pub fn revolution_layout(
+    shape: &Shape,
+    segments: u32,
+    bands: Option<u32>,
+) -> Option<RevolutionLayout> {
     let n = segments.max(3) as usize;
     let column = |f: &dyn Fn(usize) -> Vec<u32>| (0..n).map(f).collect::<Vec<_>>();
     match *shape {
@@ -148,7 +158,7 @@ pub fn revolution_layout(shape: &Shape, segments: u32) -> Option<RevolutionLayou
             })
         }
         Shape::Lens { .. } => {
-            let bands = (n / 2).max(4);
+            let bands = lens_bands(n, bands);
             let mut rings = vec![vec![0]];
             for k in 1..bands {
                 rings.push((0..n).map(|i| (1 + (k - 1) * n + i) as u32).collect());
@@ -203,10 +213,9 @@ fn disk_mesh(radius: f64, thickness: f64, n: usize) -> Mesh {
     }
 }
 
-/// Ellipsoid of revolution: `n` around, `n/2` latitude bands (at least 4).
-fn lens_mesh(radius: f64, thickness: f64, n: usize) -> Mesh {
+/// Ellipsoid of revolution: `n` around, `bands` latitude bands uniform in the polar angle.
+fn lens_mesh(radius: f64, thickness: f64, n: usize, bands: usize) -> Mesh {
     let h = 0.5 * thickness;
-    let bands = (n / 2).max(4);
     let mut positions = Vec::with_capacity(2 + n * (bands - 1));
     positions.push(DVec3::new(0.0, 0.0, h)); // north pole
     for k in 1..bands {
@@ -295,7 +304,7 @@ pub struct Stone {
 impl Stone {
     pub fn new(params: &StoneParams) -> Result<Self, ParamError> {
         params.validate()?;
-        let mut mesh = build_mesh(&params.shape, params.segments);
+        let mut mesh = build_mesh(&params.shape, params.segments, params.bands);
         let props = mass_properties(&mesh, params.mass);
         if props.volume <= 0.0 {
             return Err(ParamError::new(
@@ -321,7 +330,7 @@ impl Stone {
         let (normals, areas): (Vec<DVec3>, Vec<f64>) = (0..mesh.triangles.len())
             .map(|i| mesh.normal_area(i))
             .unzip();
-        let layout = revolution_layout(&params.shape, params.segments);
+        let layout = revolution_layout(&params.shape, params.segments, params.bands);
         let kernel = KernelMesh::new(&mesh, &normals, &areas, layout.as_ref());
         Ok(Self {
             kernel,
@@ -452,7 +461,7 @@ mod tests {
                 thickness: 0.002,
             },
         ] {
-            closed_and_outward(&build_mesh(&shape, 24));
+            closed_and_outward(&build_mesh(&shape, 24, None));
         }
     }
 
@@ -466,6 +475,7 @@ mod tests {
                 thickness: t,
             },
             n,
+            None,
         );
         let p = mass_properties(&mesh, m);
         // Inscribed polygon: area (n/2) r² sin(2π/n).
@@ -492,6 +502,7 @@ mod tests {
                     thickness: c,
                 },
                 8,
+                None,
             ),
             m,
         );
@@ -499,6 +510,24 @@ mod tests {
         let expect = DVec3::new(b * b + c * c, a * a + c * c, a * a + b * b) * (m / 12.0);
         let got = DVec3::new(p.inertia.x_axis.x, p.inertia.y_axis.y, p.inertia.z_axis.z);
         assert!((got - expect).length() < 1e-15, "{got} vs {expect}");
+    }
+
+    /// `stone.bands` sets a lens's latitude bands: 2n(bands − 1) triangles, closed and outward,
+    /// its layout describing the mesh; `None` is the mesh of half the segments.
+    #[test]
+    fn lens_bands_set_the_latitude_rings() {
+        let lens = Shape::Lens {
+            radius: 0.05,
+            thickness: 0.012,
+        };
+        for (n, bands) in [(32, 4), (48, 12), (40, 48), (64, 32)] {
+            let mesh = build_mesh(&lens, n, Some(bands));
+            closed_and_outward(&mesh);
+            assert_eq!(mesh.triangles.len(), 2 * n as usize * (bands as usize - 1));
+            let layout = revolution_layout(&lens, n, Some(bands)).unwrap();
+            assert_eq!(layout.rings.len(), bands as usize + 1);
+        }
+        assert_eq!(build_mesh(&lens, 64, None), build_mesh(&lens, 64, Some(32)));
     }
 
     #[test]
@@ -514,6 +543,7 @@ mod tests {
                         thickness: t,
                     },
                     n,
+                    None,
                 ),
                 0.1,
             );

@@ -189,6 +189,7 @@ fn with_context<R>(sim: &Simulation, f: impl FnOnce(&StepContext) -> R) -> R {
             rotation: physics.rotation,
             surface: &surface,
             record_loads: false,
+            resal: sim.resal(),
         },
         integrator: physics.integrator,
         tolerance: physics.tolerance,

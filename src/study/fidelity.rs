@@ -600,7 +600,7 @@ fn anchors(quick: bool) -> Result<Vec<Anchor>, StudyError> {
         let mut new = free.clone();
         new.physics.buoyancy = true;
         new.physics.hydrostatic = Hydrostatic::WettedFaces;
-        new.physics.axial_spin = AxialSpin::Smooth;
+        new.physics.axial_spin = AxialSpin::Resal;
         let u = |p: &Preset| scenario::min_speed(p, beta, 0.5, 12.0, 1e-3);
         Ok(Anchor {
             tilt_deg: tilt,

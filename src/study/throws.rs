@@ -111,6 +111,7 @@ pub fn clanet_disc(law: ForceLaw, tilt_deg: f64) -> Preset {
         },
         mass: CLANET_MASS,
         segments: 48,
+        bands: None,
     };
     p.launch.attitude.tilt_deg = tilt_deg;
     p.launch.spin = 0.0;

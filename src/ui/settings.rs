@@ -471,9 +471,48 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
                 )
             },
         );
+        if matches!(stone.shape, Shape::Lens { .. }) {
+            c |= row(
+                ui,
+                marks,
+                "bands",
+                "Bands",
+                "Latitude bands of the lens, pole to pole (auto: half the segments)",
+                |ui| bands_ui(ui, stone),
+            );
+        }
         c
     });
     changed
+}
+
+/// A lens's latitude bands: "auto" (half the segments) or a count.
+fn bands_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
+    ui.horizontal(|ui| {
+        let mut auto = stone.bands.is_none();
+        let mut r = ui.checkbox(&mut auto, "auto");
+        if r.changed() {
+            stone.bands = if auto {
+                None
+            } else {
+                Some((stone.segments / 2).clamp(4, 128))
+            };
+        }
+        if let Some(bands) = stone.bands.as_mut() {
+            let s = ui.add(
+                Slider::new(bands, 4..=128)
+                    .custom_parser(parse_finite)
+                    .clamping(SliderClamping::Always)
+                    .suffix(" bands"),
+            );
+            if s.changed() {
+                r.mark_changed();
+            }
+            r = r.union(s);
+        }
+        r
+    })
+    .inner
 }
 
 /// Physical constants, force law and integrator: applied live at the next step.
@@ -638,10 +677,16 @@ fn free_body_rows_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool 
         &["axial spin"],
         "Axial spin",
         "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves \
-                 no water normal to its surface (only friction feels it). Faceted: the mesh's flat facets \
-                 paddle the water as they spin.",
+                 no water normal to its surface (only friction feels it). Résal: smooth, and the mesh \
+                 meets the water without turning with the spin (its facets held to the flow, so they \
+                 do not ripple the force as they sweep past the waterline). Faceted: the mesh's flat \
+                 facets paddle the water as they spin.",
         &mut physics.axial_spin,
-        &[(AxialSpin::Smooth, "Smooth"), (AxialSpin::Faceted, "Faceted")],
+        &[
+            (AxialSpin::Resal, "Résal"),
+            (AxialSpin::Smooth, "Smooth"),
+            (AxialSpin::Faceted, "Faceted"),
+        ],
     );
     c
 }
@@ -1180,6 +1225,7 @@ mod tests {
         };
         stone.mass *= 1.5;
         stone.segments += 8;
+        stone.bands = Some(20);
         let mut ph = p.physics;
         ph.gravity = 5.0;
         ph.water_density = 900.0;
@@ -1196,7 +1242,7 @@ mod tests {
         ph.air = Some(AirParams::default());
         ph.pressure_centre = PressureCentre::Planing(0.5);
         ph.axial_spin = match ph.axial_spin {
-            AxialSpin::Smooth => AxialSpin::Faceted,
+            AxialSpin::Smooth | AxialSpin::Resal => AxialSpin::Faceted,
             AxialSpin::Faceted => AxialSpin::Smooth,
         };
         ph.dt *= 0.5;
@@ -1223,7 +1269,7 @@ mod tests {
             section_differences(&p.water, &w),
         ];
         let counts: Vec<usize> = d.iter().map(Vec::len).collect();
-        assert_eq!(counts, [13, 4, 14, 13], "{d:?}");
+        assert_eq!(counts, [13, 5, 14, 13], "{d:?}");
         let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
         draw(|ui| {
             launch_ui(ui, &mut l, &m[0]);

@@ -38,6 +38,7 @@ pub fn bocquet_plate() -> Preset {
         },
         mass: 0.1,
         segments: 8,
+        bands: None,
     };
     p.launch.attitude = Attitude {
         tilt_deg: 10.0,
@@ -63,6 +64,7 @@ pub fn clanet_stone() -> StoneParams {
         },
         mass: CLANET_MASS,
         segments: 48,
+        bands: None,
     }
 }
 

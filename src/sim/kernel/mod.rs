@@ -2060,6 +2060,7 @@ mod tests {
             },
             mass: 0.1,
             segments: 32,
+            bands: None,
         })
         .unwrap();
         let faces = &stone.kernel.faces;
@@ -2165,6 +2166,7 @@ mod tests {
             },
             mass: 0.1,
             segments: 40,
+            bands: None,
         })
         .unwrap();
         let km = &stone.kernel;

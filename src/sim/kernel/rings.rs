@@ -623,6 +623,7 @@ mod tests {
             shape,
             mass: 0.1,
             segments,
+            bands: None,
         })
         .unwrap()
     }
@@ -647,6 +648,17 @@ mod tests {
                 assert_eq!(rev.faces.len(), s.mesh.triangles.len());
             }
         }
+        for (segments, bands) in [(48, 12), (40, 48)] {
+            let s = Stone::new(&StoneParams {
+                shape: LENS,
+                mass: 0.1,
+                segments,
+                bands: Some(bands),
+            })
+            .unwrap();
+            let rev = s.kernel.revolution.as_ref().expect("banded lens accepted");
+            assert_eq!(rev.faces.len(), s.mesh.triangles.len());
+        }
         let plate = Shape::Plate {
             length: 0.1,
             width: 0.05,
@@ -654,7 +666,7 @@ mod tests {
         };
         assert!(stone(plate, 32).kernel.revolution.is_none());
         let s = stone(LENS, 32);
-        let layout = crate::sim::stone::revolution_layout(&LENS, 32).unwrap();
+        let layout = crate::sim::stone::revolution_layout(&LENS, 32, None).unwrap();
         let reach = 0.05;
         let mut swapped = layout.clone();
         swapped.rings.swap(3, 4);
@@ -680,7 +692,7 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let layout = crate::sim::stone::revolution_layout(&LENS, 64).unwrap();
+        let layout = crate::sim::stone::revolution_layout(&LENS, 64, None).unwrap();
         let mut rs = RingScratch::default();
         let (mut wet_seen, mut dry_seen) = (0, 0);
         for trial in 0..400 {

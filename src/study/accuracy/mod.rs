@@ -402,6 +402,102 @@ pub fn mesh_sweep(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<MeshPoint>, Stu
 }
 
 // ------------------------------------------------------------------------------------------------
+// Segments and bands
+// ------------------------------------------------------------------------------------------------
+
+/// One run of a lens whose latitude bands are set apart from its segments.
+#[derive(Debug, Clone)]
+pub struct BandsPoint {
+    /// The throw's key, or "default" for the shipped default throw with the water off.
+    pub case: String,
+    pub segments: u32,
+    pub bands: u32,
+    pub triangles: usize,
+    pub stats: RunStats,
+    pub err: Errors,
+}
+
+/// The (segments, bands) meshes of the bands sweep, the reference first (the finest mesh of
+/// [`mesh_segments`] with its default bands). The shipped 64 × 32 is among them.
+pub fn band_meshes(quick: bool) -> Vec<(u32, u32)> {
+    if quick {
+        vec![(32, 16), (16, 4), (16, 8), (24, 8)]
+    } else {
+        vec![
+            (192, 96),
+            (64, 32),
+            (64, 8),
+            (64, 12),
+            (64, 16),
+            (64, 24),
+            (64, 48),
+            (32, 32),
+            (40, 32),
+            (48, 32),
+            (48, 24),
+            (48, 28),
+            (96, 24),
+        ]
+    }
+}
+
+/// The cases of the bands sweep: the study's throws, and (full run) the shipped default throw
+/// with the water off (free rotation, smooth axial spin, Archimedes on the wetted faces, the air),
+/// at the mesh runs' tick and tolerance.
+fn band_cases(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<(String, Preset)>, StudyError> {
+    let b = throws::base(Integrator::Adaptive, REF_TICK, RESOLUTION_TOLERANCE);
+    let mut cases = throw_list
+        .iter()
+        .map(|t| Ok((t.key.to_string(), throws::preset(t, &b)?)))
+        .collect::<Result<Vec<_>, StudyError>>()?;
+    if !ctx.quick {
+        if let Some(mut d) = shipped_default() {
+            d.water.enabled = false;
+            d.physics.dt = REF_TICK;
+            d.physics.tolerance = RESOLUTION_TOLERANCE;
+            cases.push(("default".to_string(), d));
+        }
+    }
+    Ok(cases)
+}
+
+/// Runs each case at each mesh of [`band_meshes`], against the first.
+pub fn bands_sweep(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<BandsPoint>, StudyError> {
+    let meshes = band_meshes(ctx.quick);
+    let mut out = Vec::new();
+    for (case, preset) in band_cases(ctx, throw_list)? {
+        ctx.progress(&format!("segments and bands: {case}"));
+        let runs: Vec<(u32, u32, usize, RunStats)> = meshes
+            .par_iter()
+            .map(|&(n, bands)| {
+                check_cancel()?;
+                let mut p = preset.clone();
+                p.stone.segments = n;
+                p.stone.bands = Some(bands);
+                let tri = Stone::new(&p.stone)?.mesh.triangles.len();
+                Ok((n, bands, tri, measure(&p)?))
+            })
+            .collect::<Result<_, StudyError>>()?;
+        let reference = runs
+            .first()
+            .map(|r| r.3.clone())
+            .ok_or_else(|| StudyError::Failed("bands reference missing".into()))?;
+        for (segments, bands, triangles, stats) in runs.into_iter().skip(1) {
+            let err = errors(&stats, &reference);
+            out.push(BandsPoint {
+                case: case.clone(),
+                segments,
+                bands,
+                triangles,
+                stats,
+                err,
+            });
+        }
+    }
+    Ok(out)
+}
+
+// ------------------------------------------------------------------------------------------------
 // Water cell size
 // ------------------------------------------------------------------------------------------------
 
@@ -598,6 +694,7 @@ pub struct Results {
     pub references: Vec<Reference>,
     pub points: Vec<Point>,
     pub mesh: Vec<MeshPoint>,
+    pub bands: Vec<BandsPoint>,
     pub water: Vec<WaterPoint>,
 }
 
@@ -627,11 +724,13 @@ pub fn integrator_sweeps(ctx: &Ctx) -> Result<(Vec<Reference>, Vec<Point>), Stud
 pub fn compute(ctx: &Ctx) -> Result<Results, StudyError> {
     let (references, points) = integrator_sweeps(ctx)?;
     let mesh = mesh_sweep(ctx, &throw_list(ctx.quick))?;
+    let bands = bands_sweep(ctx, &throw_list(ctx.quick))?;
     let water = water_sweep(ctx)?;
     Ok(Results {
         references,
         points,
         mesh,
+        bands,
         water,
     })
 }
@@ -652,6 +751,9 @@ mod tests {
     fn the_shipped_lens_and_cell_are_in_the_full_sweeps() {
         let p = shipped_default().expect("assets/presets/default.ron loads");
         assert!(mesh_segments(false).contains(&p.stone.segments));
+        let shipped_bands = p.stone.bands.unwrap_or(p.stone.segments / 2);
+        assert!(band_meshes(false).contains(&(p.stone.segments, shipped_bands)));
+        assert_eq!(band_meshes(false)[0], (192, 96));
         assert!(water_cells(false)
             .iter()
             .any(|&c| (c - p.water.cell).abs() < 1e-12));

@@ -4,8 +4,8 @@
 use crate::sim::params::Integrator;
 
 use super::{
-    cheapest_reaching, errors, families, mesh_segments, shipped_tick, Errors, MeshPoint, Point,
-    Results, WaterPoint, FLOOR, LONG_TICK, REF_TICK, WATER_THROW,
+    band_meshes, cheapest_reaching, errors, families, mesh_segments, shipped_tick, BandsPoint,
+    Errors, MeshPoint, Point, Results, WaterPoint, FLOOR, LONG_TICK, REF_TICK, WATER_THROW,
 };
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use crate::study::style::{colors, integrator_name, Rgb};
@@ -18,6 +18,7 @@ pub fn write(ctx: &Ctx, res: &Results) -> Result<(), StudyError> {
     ctx.write_csv("integrators.csv", &integrators_csv(res))?;
     ctx.write_csv("references.csv", &references_csv(res))?;
     ctx.write_csv("mesh.csv", &mesh_csv(res))?;
+    ctx.write_csv("mesh_bands.csv", &bands_csv(res))?;
     ctx.write_csv("water.csv", &water_csv(res))?;
     integrator_charts(ctx, res)?;
     mesh_chart(ctx, res)?;
@@ -456,6 +457,7 @@ fn report(ctx: &Ctx, res: &Results) -> String {
     let mut s = references_md(ctx, res);
     s.push_str(&work_precision_md(res));
     s.push_str(&mesh_md(ctx, res));
+    s.push_str(&bands_md(ctx, res));
     s.push_str(&water_md(ctx, res));
     s
 }
@@ -854,6 +856,113 @@ fn findings_tick_and_sinking(res: &Results) -> String {
         _ => String::new(),
     };
     s.push_str(&format!("- Fixed steps switch the water force on in the middle of a step; entry and exit times are still found on the flight parabola, but the first-order schemes' (Paper, SymplecticEuler) errors fall only linearly with the step.{floor}\n"));
+    s
+}
+
+/// The bands-sweep runs.
+fn bands_csv(res: &Results) -> Csv {
+    let mut csv = Csv::new(&[
+        "case",
+        "segments",
+        "bands",
+        "triangles",
+        "force_evals",
+        "triangle_evals",
+        "wall_per_sim_s",
+        "distance_m",
+        "skips",
+        "err_distance",
+        "err_skips",
+        "err_contact",
+    ]);
+    for m in &res.bands {
+        csv.push(vec![
+            m.case.as_str().into(),
+            m.segments.into(),
+            m.bands.into(),
+            m.triangles.into(),
+            m.stats.force_evals.into(),
+            (m.stats.force_evals as f64 * m.triangles as f64).into(),
+            m.stats.wall_per_sim_s().into(),
+            m.stats.distance.into(),
+            m.stats.skips.into(),
+            m.err.distance.into(),
+            m.err.skips.into(),
+            m.err.contact.into(),
+        ]);
+    }
+    csv
+}
+
+/// The bands table: each mesh's worst case over the cases, and the cheapest that keeps every
+/// case's skips and stays under 1 % in distance.
+fn bands_md(ctx: &Ctx, res: &Results) -> String {
+    let meshes = band_meshes(ctx.quick);
+    let Some(&(rn, rb)) = meshes.first() else {
+        return String::new();
+    };
+    let mut cases: Vec<&str> = res.bands.iter().map(|m| m.case.as_str()).collect();
+    cases.dedup();
+    let mut s = String::from("\n## Segments and bands\n\n");
+    s.push_str(&format!(
+        "A lens's mesh has two resolutions: `stone.segments` around the rim and `stone.bands` latitude bands from pole to pole, uniform in the polar angle (a preset that names no bands gets half the segments, as every mesh above). Each mesh against {rn} × {rb}, same tick and tolerance as above; cases: {} (the default throw with the water off, its own free rotation, spin and air). Per mesh the worst case: largest distance and contact errors, and whether every case keeps its skips.\n\n",
+        cases.join(", ")
+    ));
+    let mut rows = Vec::new();
+    let mut keeping: Vec<(usize, u32, u32, f64)> = Vec::new();
+    for &(n, b) in meshes.iter().skip(1) {
+        let pts: Vec<&BandsPoint> = res
+            .bands
+            .iter()
+            .filter(|m| m.segments == n && m.bands == b)
+            .collect();
+        let Some(first) = pts.first() else {
+            continue;
+        };
+        let dist = pts.iter().map(|m| m.err.distance).fold(0.0, f64::max);
+        let cont = pts.iter().map(|m| m.err.contact).fold(0.0, f64::max);
+        let same = pts.iter().all(|m| m.err.skips == 0);
+        let evals: u64 = pts.iter().map(|m| m.stats.force_evals).sum();
+        if same && dist < 0.01 {
+            keeping.push((first.triangles, n, b, cont));
+        }
+        rows.push(vec![
+            format!("{n} × {b}"),
+            first.triangles.to_string(),
+            evals.to_string(),
+            if same { "yes".into() } else { "no".into() },
+            pct(dist, 2),
+            pct(cont, 2),
+        ]);
+    }
+    s.push_str(&md_table(
+        &[
+            "segments × bands",
+            "triangles",
+            "force evals (all cases)",
+            "same skips",
+            "worst distance error",
+            "worst contact error",
+        ],
+        &rows,
+    ));
+    keeping.sort_by_key(|k| k.0);
+    match keeping.first() {
+        Some(&(tri, n, b, cont)) => s.push_str(&format!(
+            "\nThe fewest triangles that keep every case's skips and stay under 1 % in distance: {n} × {b} ({tri} triangles; contact durations within {}).",
+            pct(cont, 2)
+        )),
+        None => s.push_str(
+            "\nNo swept mesh keeps every case's skips and stays under 1 % in distance.",
+        ),
+    }
+    match keeping.iter().find(|k| k.3 < 0.02) {
+        Some(&(tri, n, b, cont)) => s.push_str(&format!(
+            " With the contact durations within 2 % too: {n} × {b} ({tri} triangles, {}).\n",
+            pct(cont, 2)
+        )),
+        None => s.push_str(" None of them keeps the contact durations within 2 %.\n"),
+    }
     s
 }
 

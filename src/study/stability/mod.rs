@@ -53,6 +53,7 @@ pub fn bocquet_case() -> Result<BounceCase, StudyError> {
         },
         mass: 0.1,
         segments: 8,
+        bands: None,
     };
     p.launch.attitude.tilt_deg = 10.0;
     p.launch.spin = 0.0;
