@@ -7,7 +7,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use arbitrary::{Result, Unstructured};
 use stoneskip::sim::params::{
-    ForceLaw, Integrator, Limiter, Precision, Preset, PressureCentre, Rotation, Shape, Swell,
+    AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Limiter, Precision, Preset,
+    PressureCentre, PressureSign, Rotation, Shape, Swell,
 };
 use stoneskip::sim::Simulation;
 
@@ -130,12 +131,44 @@ fn water(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
     Ok(())
 }
 
+/// The options added since the first campaigns (issue 11's physics, the Résal frame, a lens's
+/// bands), in the UI's ranges. Drawn last, so the bytes before them keep their meaning: an input
+/// that runs out before them gets the defaults, the model the earlier campaigns fuzzed.
+fn options(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
+    let ph = &mut p.physics;
+    ph.pressure_sign = pick(u, &[PressureSign::AsPrinted, PressureSign::OpposesMotion])?;
+    ph.axial_spin = pick(
+        u,
+        &[AxialSpin::Faceted, AxialSpin::Smooth, AxialSpin::Resal],
+    )?;
+    ph.buoyancy = u.arbitrary()?;
+    ph.hydrostatic = pick(u, &[Hydrostatic::LoadedFaces, Hydrostatic::WettedFaces])?;
+    ph.air = if u.arbitrary()? {
+        Some(AirParams {
+            density: num(u, 0.0, 5.0)?,
+            lift_slope: num(u, 0.0, 5.0)?,
+            drag_zero: num(u, 0.0, 1.0)?,
+            drag_slope: num(u, 0.0, 5.0)?,
+            moment_slope: num(u, -2.0, 2.0)?,
+        })
+    } else {
+        None
+    };
+    p.stone.bands = if u.arbitrary()? {
+        Some(u.int_in_range(4..=128)?)
+    } else {
+        None
+    };
+    Ok(())
+}
+
 pub fn preset(u: &mut Unstructured) -> Result<Preset> {
     let mut p = Preset::default();
     stone(u, &mut p)?;
     launch(u, &mut p)?;
     physics(u, &mut p)?;
     water(u, &mut p)?;
+    options(u, &mut p)?;
     Ok(p)
 }
 
