@@ -934,16 +934,8 @@ mod tests {
     fn the_resal_frame_takes_the_spin_phase_out_of_the_force() {
         use crate::sim::hydro::FlatSurface;
         use crate::sim::params::{AxialSpin, Physics};
-        let stone = Stone::new(&StoneParams {
-            shape: Shape::Lens {
-                radius: 0.05,
-                thickness: 0.012,
-            },
-            mass: 0.1,
-            segments: 32,
-            bands: None,
-        })
-        .unwrap();
+        // The built-in pebble: a 5 cm, 12 mm, 100 g lens of 32 segments.
+        let stone = Stone::new(&StoneParams::default()).unwrap();
         let dynamics = |axial_spin: AxialSpin| {
             let physics = Physics {
                 rotation: Rotation::Free,

@@ -456,34 +456,39 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
                 )
             },
         );
+        c | mesh_rows_ui(ui, stone, marks)
+    });
+    changed
+}
+
+/// The mesh rows: segments around, and a lens's latitude bands.
+fn mesh_rows_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
+    let mut c = row(
+        ui,
+        marks,
+        "segments",
+        "Mesh",
+        "Rim resolution: segments around the stone",
+        |ui| {
+            ui.add(
+                Slider::new(&mut stone.segments, 8..=128)
+                    .custom_parser(parse_finite)
+                    .clamping(SliderClamping::Always)
+                    .suffix(" segments"),
+            )
+        },
+    );
+    if matches!(stone.shape, Shape::Lens { .. }) {
         c |= row(
             ui,
             marks,
-            "segments",
-            "Mesh",
-            "Rim resolution: segments around the stone",
-            |ui| {
-                ui.add(
-                    Slider::new(&mut stone.segments, 8..=128)
-                        .custom_parser(parse_finite)
-                        .clamping(SliderClamping::Always)
-                        .suffix(" segments"),
-                )
-            },
+            "bands",
+            "Bands",
+            "Latitude bands of the lens, pole to pole (auto: half the segments)",
+            |ui| bands_ui(ui, stone),
         );
-        if matches!(stone.shape, Shape::Lens { .. }) {
-            c |= row(
-                ui,
-                marks,
-                "bands",
-                "Bands",
-                "Latitude bands of the lens, pole to pole (auto: half the segments)",
-                |ui| bands_ui(ui, stone),
-            );
-        }
-        c
-    });
-    changed
+    }
+    c
 }
 
 /// A lens's latitude bands: "auto" (half the segments) or a count.

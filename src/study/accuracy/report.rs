@@ -5,11 +5,12 @@ use crate::sim::params::Integrator;
 
 use super::{
     band_meshes, cheapest_reaching, errors, families, mesh_segments, shipped_tick, BandsPoint,
-    Errors, MeshPoint, Point, Results, WaterPoint, FLOOR, LONG_TICK, REF_TICK, WATER_THROW,
+    Errors, MeshPoint, Point, Results, RunStats, WaterPoint, FLOOR, LONG_TICK, REF_TICK,
+    WATER_THROW,
 };
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use crate::study::style::{colors, integrator_name, Rgb};
-use crate::study::table::{md_table, pct, sig, Csv};
+use crate::study::table::{md_table, pct, sig, Csv, Val};
 use crate::study::throws::throw_list;
 use crate::study::{Ctx, StudyError};
 
@@ -107,35 +108,42 @@ fn references_csv(res: &Results) -> Csv {
     rcsv
 }
 
+/// The columns of a mesh run after its own (throw, segments, bands): triangles, costs, result,
+/// errors.
+const MESH_COLUMNS: [&str; 9] = [
+    "triangles",
+    "force_evals",
+    "triangle_evals",
+    "wall_per_sim_s",
+    "distance_m",
+    "skips",
+    "err_distance",
+    "err_skips",
+    "err_contact",
+];
+
+/// A mesh run's [`MESH_COLUMNS`] cells.
+fn mesh_cells(triangles: usize, stats: &RunStats, err: &Errors) -> Vec<Val> {
+    vec![
+        triangles.into(),
+        stats.force_evals.into(),
+        (stats.force_evals as f64 * triangles as f64).into(),
+        stats.wall_per_sim_s().into(),
+        stats.distance.into(),
+        stats.skips.into(),
+        err.distance.into(),
+        err.skips.into(),
+        err.contact.into(),
+    ]
+}
+
 /// The mesh-resolution runs.
 fn mesh_csv(res: &Results) -> Csv {
-    let mut mcsv = Csv::new(&[
-        "throw",
-        "segments",
-        "triangles",
-        "force_evals",
-        "triangle_evals",
-        "wall_per_sim_s",
-        "distance_m",
-        "skips",
-        "err_distance",
-        "err_skips",
-        "err_contact",
-    ]);
+    let mut mcsv = Csv::new(&[&["throw", "segments"][..], &MESH_COLUMNS[..]].concat());
     for m in &res.mesh {
-        mcsv.push(vec![
-            m.throw.key.into(),
-            m.segments.into(),
-            m.triangles.into(),
-            m.stats.force_evals.into(),
-            (m.stats.force_evals as f64 * m.triangles as f64).into(),
-            m.stats.wall_per_sim_s().into(),
-            m.stats.distance.into(),
-            m.stats.skips.into(),
-            m.err.distance.into(),
-            m.err.skips.into(),
-            m.err.contact.into(),
-        ]);
+        let mut row = vec![m.throw.key.into(), m.segments.into()];
+        row.extend(mesh_cells(m.triangles, &m.stats, &m.err));
+        mcsv.push(row);
     }
     mcsv
 }
@@ -861,35 +869,11 @@ fn findings_tick_and_sinking(res: &Results) -> String {
 
 /// The bands-sweep runs.
 fn bands_csv(res: &Results) -> Csv {
-    let mut csv = Csv::new(&[
-        "case",
-        "segments",
-        "bands",
-        "triangles",
-        "force_evals",
-        "triangle_evals",
-        "wall_per_sim_s",
-        "distance_m",
-        "skips",
-        "err_distance",
-        "err_skips",
-        "err_contact",
-    ]);
+    let mut csv = Csv::new(&[&["case", "segments", "bands"][..], &MESH_COLUMNS[..]].concat());
     for m in &res.bands {
-        csv.push(vec![
-            m.case.as_str().into(),
-            m.segments.into(),
-            m.bands.into(),
-            m.triangles.into(),
-            m.stats.force_evals.into(),
-            (m.stats.force_evals as f64 * m.triangles as f64).into(),
-            m.stats.wall_per_sim_s().into(),
-            m.stats.distance.into(),
-            m.stats.skips.into(),
-            m.err.distance.into(),
-            m.err.skips.into(),
-            m.err.contact.into(),
-        ]);
+        let mut row = vec![m.case.as_str().into(), m.segments.into(), m.bands.into()];
+        row.extend(mesh_cells(m.triangles, &m.stats, &m.err));
+        csv.push(row);
     }
     csv
 }
