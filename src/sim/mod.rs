@@ -169,6 +169,12 @@ pub const MAX_STEPS_PER_TICK: u32 = 1_000_000;
 /// finding S2). At ~10 µs an evaluation this is about 2 minutes.
 pub const MAX_EVALS_PER_TICK: u64 = 10_000_000;
 
+/// Face impulses a tick may gather before they are handed to the water mid-tick (48 B each, so
+/// 3 MB). The grid sums them per column until it steps, so handing them over early gives the
+/// same sums in the same order; without it a costly tick kept every loaded face of every step
+/// (finding S3: 7 GB resident and growing in one tick of the session-10 soak).
+pub const PENDING_FLUSH: usize = 1 << 16;
+
 /// One face's impulse on the water over an accepted step, spread over a square of the face's wetted
 /// footprint (Newton's third law of the face force, design.md §5): a footprint rather than a point, so
 /// the forcing, and the rings, converge as the water's cells shrink below the stone's wetted area.
@@ -358,6 +364,10 @@ pub struct Simulation {
     open_tick: Option<OpenTick>,
     /// [`MAX_EVALS_PER_TICK`] (a field so a unit test can reach it cheaply).
     max_evals_per_tick: u64,
+    /// [`PENDING_FLUSH`] (a field so a unit test can flush at every few loads).
+    pending_flush: usize,
+    /// The most face impulses held at once so far (the memory a tick's loads took).
+    pending_high: usize,
 }
 
 /// A tick in progress: its target time, its length and its step guard, so that the next call of
@@ -439,6 +449,8 @@ impl Simulation {
             water,
             open_tick: None,
             max_evals_per_tick: MAX_EVALS_PER_TICK,
+            pending_flush: PENDING_FLUSH,
+            pending_high: 0,
         };
         sim.refresh_water_max();
         let clearance = sim.clearance(&state);
@@ -832,6 +844,10 @@ impl Simulation {
                     step.h,
                 );
                 self.motion.push_step_loads(j, step.h, step.state.position);
+                self.pending_high = self.pending_high.max(self.motion.pending.len());
+                if self.motion.pending.len() >= self.pending_flush {
+                    self.deposit_pending();
+                }
             }
             self.motion.state = step.state;
             self.motion.time = if step.h >= h_max { t_end } else { t0 + step.h };
@@ -1469,6 +1485,53 @@ pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Finding S3: a costly tick's face impulses are handed to the water once they reach the
+    /// flush bound, not kept to the tick's end; the grid sums them per column in the same order,
+    /// so the run is bit for bit the one that kept them all, stone and water alike.
+    #[test]
+    fn a_costly_ticks_face_loads_are_flushed_with_the_same_results() {
+        let mut p = Preset::default();
+        p.physics.tolerance = 1e-9;
+        p.physics.dt = 0.02;
+        p.physics.max_time = 0.6;
+        p.water.wavy_contact = true;
+        p.water.size = [6.0, 2.0];
+        p.water.origin = Some([-1.0, -1.0]);
+        p.water.cell = 0.05;
+        let run = |flush: usize| {
+            let mut sim = Simulation::new(&p).unwrap();
+            sim.pending_flush = flush;
+            while !sim.is_finished() {
+                sim.tick();
+            }
+            sim
+        };
+        let (kept, flushed) = (run(usize::MAX), run(64));
+        assert!(
+            kept.pending_high > 1_000,
+            "a tick held {}",
+            kept.pending_high
+        );
+        // At most the bound plus one step's start and end loads.
+        let faces = 2 * kept.stone.mesh.triangles.len();
+        assert!(
+            flushed.pending_high < 64 + faces,
+            "{}",
+            flushed.pending_high
+        );
+        assert_eq!(kept.summary(), flushed.summary());
+        let (a, b) = (kept.water().unwrap(), flushed.water().unwrap());
+        for iy in 0..a.ny() {
+            for ix in 0..a.nx() {
+                assert_eq!(
+                    a.eta(ix, iy).to_bits(),
+                    b.eta(ix, iy).to_bits(),
+                    "column {ix}, {iy}"
+                );
+            }
+        }
+    }
 
     /// A tick's work is bounded by evaluations, not only by steps: the fuzz-found costly preset
     /// (a 36 cm disc at tolerance 1.3e-10, found by the headless soak: 2.3·10⁷ evaluations in one

@@ -2,7 +2,8 @@
 //! `../shared/reference/whole_throw.md` §5 is measured twice, under the model *before* (the paper's
 //! high-spin limit as the presets used it: attitude locked, flat water, no buoyancy) and *after*
 //! (the shipped presets' model: a free rigid body with the pebble's smooth surface of revolution,
-//! hydrostatic buoyancy and the near-field water it rides on, i.e. wavy contact on 2 cm columns).
+//! its mesh met by the water in a Résal frame (`axial_spin: Resal`), hydrostatic buoyancy and the
+//! near-field water it rides on, i.e. wavy contact on 2 cm columns).
 //!
 //! Mechanisms measured first: the vertical energy budget of each contact under each force law
 //! (Rosellini et al. 2005's U·v_n and the paper's v_n² laws damp the bounce, Bocquet's U² does not);
@@ -1159,8 +1160,8 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(
         "Before: the paper's high-spin limit as the presets used it (attitude locked, flat water, \
          no buoyancy, no air). After: the shipped presets' model (free rigid body, smooth surface \
-         of revolution, Archimedes on every wetted face, the air in flight, wavy contact on 2 cm \
-         columns). Same throws.\n\n",
+         of revolution whose mesh meets the water in a Résal frame, Archimedes on every wetted \
+         face, the air in flight, wavy contact on 2 cm columns). Same throws.\n\n",
     );
     if ctx.quick {
         s.push_str(&format!(
