@@ -30,7 +30,7 @@ use glam::{DQuat, DVec3};
 
 use super::contact::{clip_triangle, WettedPatch};
 use super::kernel::{self, KernelScratch};
-use super::params::{ForceLaw, Hydrostatic, Physics, PressureCentre, PressureSign, Shape};
+use super::params::{ForceLaw, Hydrostatic, Physics, PressureCentre, PressureSign};
 use super::stone::Stone;
 
 /// The constants of one force evaluation.
@@ -464,7 +464,7 @@ struct SpinSplit {
 
 impl SpinSplit {
     fn new(stone: &Stone, hp: &HydroParams, pose: &Pose) -> Self {
-        let revolution = matches!(stone.shape, Shape::Disk { .. } | Shape::Lens { .. });
+        let revolution = stone.shape.is_revolution();
         if !(hp.smooth_spin && revolution) {
             return Self {
                 normal_omega: pose.angular_velocity,
@@ -562,6 +562,7 @@ impl Planing {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::params::Shape;
 
     fn hp(law: ForceLaw, ventilated: bool) -> HydroParams {
         let (lift, friction) = law.default_coefficients();

@@ -18,7 +18,7 @@ use glam::{DMat3, DQuat, DVec3, DVec4};
 
 use super::air::{Air, AIR_SUBSTEP};
 use super::hydro::{evaluate, ForceSum, HydroParams, Pose, Scratch, Surface};
-use super::params::{AxialSpin, Rotation, Shape};
+use super::params::{AxialSpin, Rotation};
 use super::stone::Stone;
 
 /// The stone's dynamical state.
@@ -104,16 +104,14 @@ pub struct Dynamics<'a> {
     pub surface: &'a dyn Surface,
     /// Whether a `record` evaluation stores the face loads (false when no water reads them).
     pub record_loads: bool,
-    /// The mesh meets the water in the Résal frame ([`resal_frame`]).
+    /// The mesh meets the water in the Résal frame ([`mesh_orientation`]).
     pub resal: bool,
 }
 
 /// Whether a stone meets the water in the Résal frame: `axial_spin: Resal`, free rotation, a
 /// disk or a lens (a body of revolution, its inertia axisymmetric for any segment count ≥ 3).
 pub fn resal_applies(stone: &Stone, rotation: Rotation, axial_spin: AxialSpin) -> bool {
-    axial_spin == AxialSpin::Resal
-        && rotation == Rotation::Free
-        && matches!(stone.shape, Shape::Disk { .. } | Shape::Lens { .. })
+    axial_spin == AxialSpin::Resal && rotation == Rotation::Free && stone.shape.is_revolution()
 }
 
 /// The orientation the mesh meets the water at: the stone's own, or with `resal` the Résal frame

@@ -69,6 +69,12 @@ pub enum Shape {
 }
 
 impl Shape {
+    /// A body of revolution (disk or lens): its mesh is rings about its axis, its inertia
+    /// axisymmetric; a plate is not.
+    pub fn is_revolution(&self) -> bool {
+        matches!(self, Shape::Disk { .. } | Shape::Lens { .. })
+    }
+
     /// Largest horizontal half-extent of the stone (m): the radius, or half the plate's diagonal.
     pub fn half_extent(&self) -> f64 {
         match *self {
@@ -262,8 +268,8 @@ pub enum AxialSpin {
     Smooth,
     /// As `Smooth`, and under free rotation the mesh meets the water in a Résal frame (the frame
     /// of gyroscope theory that follows the symmetry axis but not the spin about it): its
-    /// azimuth is held to the flow, one column of facets facing the velocity's component in the
-    /// stone's plane. The smooth body's forces do not depend on that azimuth, but the faceted
+    /// azimuth is held to the flow, the mesh's azimuth 0 (a column of vertices) on the velocity's
+    /// component in the stone's plane. The smooth body's forces do not depend on that azimuth, but the faceted
     /// mesh's do: turning with the spin, its facets sweep past the waterline spin × segments
     /// times a second (900 Hz at 14 rev/s and 64 segments), a ripple of the force that is the
     /// mesh's and not the body's, and that the error control of `Adaptive` resolves with small

@@ -98,8 +98,8 @@ pub fn mass_properties(mesh: &Mesh, mass: f64) -> MassProperties {
 }
 
 /// A lens's latitude bands: `bands` when a preset names it, else half the segments; at least 4.
-fn lens_bands(n: usize, bands: Option<u32>) -> usize {
-    bands.map_or(n / 2, |b| b as usize).max(4)
+pub fn lens_bands(segments: u32, bands: Option<u32>) -> u32 {
+    bands.unwrap_or(segments / 2).max(4)
 }
 
 /// Builds the mesh of a shape, not yet centred: `segments` around, and for a lens `bands`
@@ -108,7 +108,9 @@ pub fn build_mesh(shape: &Shape, segments: u32, bands: Option<u32>) -> Mesh {
     let n = segments.max(3) as usize;
     match *shape {
         Shape::Disk { radius, thickness } => disk_mesh(radius, thickness, n),
-        Shape::Lens { radius, thickness } => lens_mesh(radius, thickness, n, lens_bands(n, bands)),
+        Shape::Lens { radius, thickness } => {
+            lens_mesh(radius, thickness, n, lens_bands(segments, bands) as usize)
+        }
         Shape::Plate {
             length,
             width,
@@ -158,7 +160,7 @@ pub fn revolution_layout(
             })
         }
         Shape::Lens { .. } => {
-            let bands = lens_bands(n, bands);
+            let bands = lens_bands(segments, bands) as usize;
             let mut rings = vec![vec![0]];
             for k in 1..bands {
                 rings.push((0..n).map(|i| (1 + (k - 1) * n + i) as u32).collect());

@@ -500,7 +500,7 @@ fn bands_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
             stone.bands = if auto {
                 None
             } else {
-                Some((stone.segments / 2).clamp(4, 128))
+                Some(crate::sim::stone::lens_bands(stone.segments, None).min(128))
             };
         }
         if let Some(bands) = stone.bands.as_mut() {

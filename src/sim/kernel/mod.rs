@@ -30,7 +30,7 @@ use glam::{DMat3, DQuat, DVec3};
 
 use super::contact::clip_triangle;
 use super::hydro::{FaceLoad, ForceSum, HydroParams, Pose, Surface};
-use super::params::{ForceLaw, Shape};
+use super::params::ForceLaw;
 use super::stone::{Mesh, RevolutionLayout, Stone};
 
 mod rings;
@@ -710,7 +710,7 @@ impl<'a> Ctx<'a> {
             (len > 1e-9).then(|| to_frame(h / len))
         });
         // As the reference's `SpinSplit`: ω_⊥ = ω − (ω·a)a on a smooth body of revolution.
-        let revolution = matches!(stone.shape, Shape::Disk { .. } | Shape::Lens { .. });
+        let revolution = stone.shape.is_revolution();
         let (normal_w, axis) = if hp.smooth_spin && revolution {
             let a = pose.orientation * DVec3::Z;
             let w = pose.angular_velocity;

@@ -751,7 +751,7 @@ mod tests {
     fn the_shipped_lens_and_cell_are_in_the_full_sweeps() {
         let p = shipped_default().expect("assets/presets/default.ron loads");
         assert!(mesh_segments(false).contains(&p.stone.segments));
-        let shipped_bands = p.stone.bands.unwrap_or(p.stone.segments / 2);
+        let shipped_bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
         assert!(band_meshes(false).contains(&(p.stone.segments, shipped_bands)));
         assert_eq!(band_meshes(false)[0], (192, 96));
         assert!(water_cells(false)
