@@ -73,7 +73,7 @@ fn soak(first: u64, count: u64, budget_s: f64) -> Tally {
             t.failures
                 .push((i, why.lines().next().unwrap_or("").to_owned()));
         }
-        if t.inputs.is_multiple_of(10_000) {
+        if t.inputs.is_multiple_of(1_000) {
             eprintln!(
                 "{} inputs, {} throws, {} failures, {:.0} s",
                 t.inputs,

@@ -22,6 +22,7 @@ use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign,
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
 use super::fidelity_air::{self, AirStudy};
+use super::fidelity_limit::{self, LimitStudy, Quoted};
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
 use super::style::law_name;
@@ -651,6 +652,8 @@ fn presets(quick: bool) -> Result<Vec<PresetCheck>, StudyError> {
 pub struct Fidelity {
     pub bounces: Vec<Bounce>,
     pub paper: PaperEnergy,
+    /// The default throw's launch tilt (°) and its locked run.
+    pub launch_tilt: f64,
     pub locked: ThrowShape,
     pub spin: Vec<SpinRun>,
     /// (launch tilt °, its spin sweep); the locked counts are in `locked_tilts`.
@@ -663,6 +666,7 @@ pub struct Fidelity {
     pub anchors: Vec<Anchor>,
     pub presets: Vec<PresetCheck>,
     pub air: AirStudy,
+    pub limit: LimitStudy,
 }
 
 /// Runs every part of the study.
@@ -692,9 +696,11 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     ctx.progress("shipped presets");
     let presets = presets(q)?;
     let air = fidelity_air::compute(ctx, &presets)?;
+    let limit = fidelity_limit::compute(ctx, &spin, &air.sweep_off)?;
     Ok(Fidelity {
         bounces,
         paper,
+        launch_tilt,
         locked,
         spin,
         spin_tilts,
@@ -706,6 +712,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         anchors,
         presets,
         air,
+        limit,
     })
 }
 
@@ -884,7 +891,8 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         c.push(shape_row(&format!("{} after", p.stem), &p.after));
     }
     ctx.write_csv("presets.csv", &c)?;
-    fidelity_air::write_csvs(ctx, &f.air)
+    fidelity_air::write_csvs(ctx, &f.air)?;
+    fidelity_limit::write_csvs(ctx, &f.limit)
 }
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
@@ -1177,7 +1185,29 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&anchor_section(f));
     s.push_str(&preset_section(f));
     s.push_str(&fidelity_air::section(&f.air, &f.spin));
+    s.push_str(&fidelity_limit::section(&f.limit, &quoted(f)));
     s
+}
+
+/// The numbers of §2 that §8's explanation quotes.
+fn quoted(f: &Fidelity) -> Quoted {
+    let firsts: Vec<f64> = f
+        .turns
+        .iter()
+        .filter(|t| t.index == 1)
+        .map(|t| t.turn_deg * t.rev_per_s)
+        .collect();
+    Quoted {
+        launch_tilt: f.launch_tilt,
+        first_turn_times_spin: (!firsts.is_empty())
+            .then(|| firsts.iter().sum::<f64>() / firsts.len() as f64),
+        shallow_locked: f.locked_tilts.first().map(|l| (l.tilt_deg, l.shape.skips)),
+        launch_locked: f.locked.skips,
+        tilt_check: f
+            .spin_tilts
+            .first()
+            .map(|(tilt, runs)| (*tilt, spin_drops(runs))),
+    }
 }
 
 fn energy_section(f: &Fidelity) -> String {
