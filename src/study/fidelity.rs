@@ -218,11 +218,13 @@ pub struct SpinRun {
 impl SpinRun {
     /// The ensemble's median skip count (the lower middle for an even count).
     pub fn median(&self) -> usize {
-        self.members
-            .get((self.members.len().max(1) - 1) / 2)
-            .copied()
-            .unwrap_or(self.shape.skips)
+        lower_median(&self.members).unwrap_or(self.shape.skips)
     }
+}
+
+/// The middle of sorted counts (the lower middle for an even count); `None` when empty.
+pub(super) fn lower_median(v: &[usize]) -> Option<usize> {
+    v.get((v.len().max(1) - 1) / 2).copied()
 }
 
 pub(super) fn spin_revs(quick: bool) -> Vec<f64> {

@@ -15,7 +15,8 @@
 use crate::sim::params::{Preset, Rotation};
 
 use super::fidelity::{
-    ensemble_offsets, par_map, shape, shipped_for, spin_drops, spin_revs, spin_runs, SpinRun,
+    ensemble_offsets, lower_median, par_map, shape, shipped_for, spin_drops, spin_revs, spin_runs,
+    SpinRun,
 };
 use super::table::{md_table, sig, Csv};
 use super::{Ctx, StudyError};
@@ -37,7 +38,7 @@ pub struct Variant {
 
 impl Variant {
     pub fn locked_median(&self) -> usize {
-        lower_median(&self.locked)
+        lower_median(&self.locked).unwrap_or(0)
     }
 
     /// The sweep's highest median (the first spin that reaches it).
@@ -45,10 +46,6 @@ impl Variant {
         let best = self.sweep.iter().map(SpinRun::median).max()?;
         self.sweep.iter().find(|r| r.median() == best)
     }
-}
-
-fn lower_median(v: &[usize]) -> usize {
-    v.get((v.len().max(1) - 1) / 2).copied().unwrap_or(0)
 }
 
 /// What §8 measured: shipped, air off, friction off, neither.
