@@ -108,6 +108,24 @@ fn paper_clamp_changes_volume_and_mass_conserving_does_not() {
     assert!(cend.abs() > 1e-3, "{cend}");
 }
 
+/// Whether `text` holds a number Rust printed from a non-finite f64: the token `NaN` or `inf`
+/// (with its sign), not a word that merely contains the letters, such as "infinite".
+fn has_non_finite(text: &str) -> bool {
+    text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '.'))
+        .any(|t| t == "NaN" || t == "inf")
+}
+
+#[test]
+fn non_finite_numbers_are_found_and_words_are_not() {
+    assert!(has_non_finite("| 3 | NaN |"));
+    assert!(has_non_finite("x,-inf,2"));
+    assert!(has_non_finite("speed inf m/s"));
+    assert!(!has_non_finite(
+        "The infinite-spin limit, informed by the inflow"
+    ));
+    assert!(!has_non_finite("1.5e3, 2.0"));
+}
+
 fn assert_outputs(dir: &Path) {
     let files: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
@@ -125,10 +143,10 @@ fn assert_outputs(dir: &Path) {
     );
     let md = std::fs::read_to_string(dir.join("README.md")).unwrap();
     assert_eq!(!md.starts_with("> Charts not drawn"), charts, "{md}");
-    assert!(!md.contains("NaN") && !md.contains("inf"), "{md}");
+    assert!(!has_non_finite(&md), "{md}");
     for f in files.iter().filter(|f| f.ends_with(".csv")) {
         let text = std::fs::read_to_string(dir.join(f)).unwrap();
-        assert!(!text.contains("NaN") && !text.contains("inf"), "{f}");
+        assert!(!has_non_finite(&text), "{f}");
         assert!(text.lines().count() >= 2, "{f} has data rows");
     }
     for f in files.iter().filter(|f| f.ends_with(".png")) {
