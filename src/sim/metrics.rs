@@ -44,14 +44,7 @@ pub fn throw_shape(s: &Summary, launch: [f64; 2]) -> ThrowShape {
         .skip(1)
         .map(|e| e.t_end - e.t_start)
         .fold(0.0, f64::max);
-    let tail_longest_hop = if c.len() >= 8 {
-        let tail = &c[c.len() * 3 / 4..];
-        tail.windows(2)
-            .map(|w| ((w[1].x - w[0].x).powi(2) + (w[1].y - w[0].y).powi(2)).sqrt())
-            .fold(0.0, f64::max)
-    } else {
-        0.0
-    };
+    let tail_longest_hop = tail_hops(s).iter().map(|h| h.hop).fold(0.0, f64::max);
     ThrowShape {
         skips: s.skips,
         distance: s.distance,
@@ -66,6 +59,61 @@ pub fn throw_shape(s: &Summary, launch: [f64; 2]) -> ThrowShape {
         tail_longest_hop,
         lateral,
     }
+}
+
+/// One hop of a throw's tail: from a touchdown to the next, split into the part the stone covers
+/// in contact and the part in flight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TailHop {
+    /// The contact the hop starts with, counted from 1 over every contact (grazes included).
+    pub contact: usize,
+    /// Speed (m/s), angle below the horizontal (°) and tilt (°) at that touchdown.
+    pub speed_in: f64,
+    pub beta_in: f64,
+    pub tilt_in: f64,
+    /// The contact's duration (s).
+    pub contact_s: f64,
+    /// Exit angle above the horizontal (°).
+    pub exit_angle: f64,
+    /// Touchdown to touchdown (m).
+    pub hop: f64,
+    /// The flight's length (m): its duration times the exit's horizontal speed (the air changes
+    /// that speed by well under 1 % over a tail hop).
+    pub flight: f64,
+    /// `hop − flight` (m): what the stone covers while in contact.
+    pub in_contact: f64,
+}
+
+/// The hops over the last quarter of the touchdowns (the record runs' "pitty-pat" tail,
+/// whole_throw.md §3); none with fewer than 8 contacts.
+pub fn tail_hops(s: &Summary) -> Vec<TailHop> {
+    let c = &s.contacts;
+    if c.len() < 8 {
+        return Vec::new();
+    }
+    let first = c.len() * 3 / 4;
+    c[first..]
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| {
+            let (a, b) = (&w[0], &w[1]);
+            let hop = ((b.x - a.x).powi(2) + (b.y - a.y).powi(2)).sqrt();
+            let horizontal = |v: [f64; 3]| v[0].hypot(v[1]);
+            let exit_h = horizontal(a.v_out);
+            let flight = (b.t_start - a.t_end).max(0.0) * exit_h;
+            TailHop {
+                contact: first + k + 1,
+                speed_in: horizontal(a.v_in).hypot(a.v_in[2]),
+                beta_in: a.beta_in,
+                tilt_in: a.attitude_in[0],
+                contact_s: a.t_end - a.t_start,
+                exit_angle: a.v_out[2].atan2(exit_h).to_degrees(),
+                hop,
+                flight,
+                in_contact: hop - flight,
+            }
+        })
+        .collect()
 }
 
 /// The "no hovercraft" rule of issue 11: a throw that skips at least twice ends with a contact that
@@ -183,5 +231,36 @@ mod tests {
             t.tail_longest_hop
         );
         assert!(hovercraft(&t, 0.1, 0.3).is_none());
+    }
+
+    #[test]
+    fn a_tail_hop_is_its_contacts_slide_plus_its_flight() {
+        // Eight contacts, 50 ms each at 4 m/s, leaving at 3 m/s forward and 0.3 m/s up; each
+        // flight lasts 0.1 s (0.3 m), each slide 0.2 m: touchdowns 0.5 m apart.
+        let contacts = (0..8)
+            .map(|i| {
+                let t0 = 0.15 * i as f64;
+                let mut e = contact(t0, t0 + 0.05, 0.5 * i as f64);
+                e.v_in = [4.0, 0.0, -0.3];
+                e.v_out = [3.0, 0.0, 0.3];
+                e.beta_in = 4.3;
+                e.attitude_in = [6.0, 0.0, 0.0];
+                e
+            })
+            .collect();
+        let s = summary(contacts, 3.6);
+        let hops = tail_hops(&s);
+        // The last quarter is contacts 7 and 8: one hop, from contact 7.
+        assert_eq!(hops.len(), 1);
+        let h = hops[0];
+        assert_eq!(h.contact, 7);
+        assert!((h.hop - 0.5).abs() < 1e-12);
+        assert!((h.flight - 0.3).abs() < 1e-12, "{}", h.flight);
+        assert!((h.in_contact - 0.2).abs() < 1e-12);
+        assert!((h.contact_s - 0.05).abs() < 1e-12);
+        assert!((h.speed_in - 4.0f64.hypot(0.3)).abs() < 1e-12);
+        assert!((h.exit_angle - 0.1f64.atan().to_degrees()).abs() < 1e-9);
+        assert_eq!((h.beta_in, h.tilt_in), (4.3, 6.0));
+        assert!(tail_hops(&summary(Vec::new(), 0.0)).is_empty());
     }
 }

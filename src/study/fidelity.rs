@@ -17,7 +17,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec3;
 
-use crate::sim::metrics::{hovercraft, throw_shape, ThrowShape};
+use crate::sim::metrics::{hovercraft, tail_hops, throw_shape, TailHop, ThrowShape};
 use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
@@ -553,10 +553,12 @@ fn near_field(quick: bool) -> Result<Vec<NearField>, StudyError> {
 }
 
 /// The record-class throw and slower throws of the same stone.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct SpeedRun {
     pub speed: f64,
     pub shape: ThrowShape,
+    /// The hops of the last quarter of its touchdowns.
+    pub tail: Vec<TailHop>,
 }
 
 fn record(quick: bool) -> Result<Vec<SpeedRun>, StudyError> {
@@ -570,7 +572,11 @@ fn record(quick: bool) -> Result<Vec<SpeedRun>, StudyError> {
     par_map(speeds, |u| {
         let mut q = p.clone();
         q.launch.velocity = [u, 0.0, 0.0];
-        shape(&q).map(|(_, t)| SpeedRun { speed: u, shape: t })
+        shape(&q).map(|(s, t)| SpeedRun {
+            speed: u,
+            shape: t,
+            tail: tail_hops(&s),
+        })
     })
 }
 
@@ -870,6 +876,37 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         ctx.write_csv("record_class.csv", &c)?;
     }
     let mut c = Csv::new(&[
+        "speed_m_s",
+        "contact",
+        "speed_in_m_s",
+        "beta_in_deg",
+        "tilt_in_deg",
+        "contact_s",
+        "exit_angle_deg",
+        "hop_m",
+        "flight_m",
+        "in_contact_m",
+    ]);
+    for r in &f.record {
+        for h in &r.tail {
+            c.push(vec![
+                r.speed.into(),
+                h.contact.into(),
+                h.speed_in.into(),
+                h.beta_in.into(),
+                h.tilt_in.into(),
+                h.contact_s.into(),
+                h.exit_angle.into(),
+                h.hop.into(),
+                h.flight.into(),
+                h.in_contact.into(),
+            ]);
+        }
+    }
+    if !c.is_empty() {
+        ctx.write_csv("record_tail.csv", &c)?;
+    }
+    let mut c = Csv::new(&[
         "tilt_deg",
         "u_min_before",
         "u_min_free_only",
@@ -1069,9 +1106,10 @@ fn lead_table(f: &Fidelity) -> String {
             "a quick pitty-pat tail: last-quarter hops < 0.5 m".into(),
             "a planing glide instead".into(),
             format!(
-                "longest last-quarter hop {:.2} m ({})",
+                "longest last-quarter hop {:.2} m ({}){}",
                 r.shape.tail_longest_hop,
-                verdict(r.shape.tail_longest_hop < 0.5)
+                verdict(r.shape.tail_longest_hop < 0.5),
+                tail_split_words(&r.tail).map_or(String::new(), |w| format!("; {w} (§4)"))
             ),
         ]);
     }
@@ -1751,6 +1789,100 @@ fn record_section(f: &Fidelity) -> String {
                 .map(|r| (format!("{} m/s", r.speed), &r.shape)),
         ),
     ));
+    if let Some(r) = f.record.first() {
+        s.push_str(&tail_section(r));
+    }
+    s
+}
+
+/// The ranges of a tail's flights and in-contact lengths, and its contacts' durations.
+fn tail_split_words(tail: &[TailHop]) -> Option<String> {
+    let range = |x: &dyn Fn(&TailHop) -> f64| {
+        let lo = tail.iter().map(x).fold(f64::INFINITY, f64::min);
+        let hi = tail.iter().map(x).fold(f64::NEG_INFINITY, f64::max);
+        (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+    };
+    let (f0, f1) = range(&|h| h.flight)?;
+    let (c0, c1) = range(&|h| h.in_contact)?;
+    let (d0, d1) = range(&|h| h.contact_s)?;
+    Some(format!(
+        "flights {}–{} m, in contact {}–{} m over {}–{} ms",
+        sig(f0, 2),
+        sig(f1, 2),
+        sig(c0, 2),
+        sig(c1, 2),
+        sig(1e3 * d0, 2),
+        sig(1e3 * d1, 2)
+    ))
+}
+
+/// §4's tail: each hop of the record run's last quarter, split into contact and flight.
+fn tail_section(r: &SpeedRun) -> String {
+    if r.tail.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(
+        "\n### The tail\n\nThe {} m/s run's last quarter of touchdowns (grazes included, as the \
+         metric counts them): a hop runs from one touchdown to the next, so it is what the stone \
+         covers in contact plus its flight (the flight's duration times the exit's horizontal \
+         speed).\n\n",
+        r.speed
+    );
+    let rows: Vec<Vec<String>> = r
+        .tail
+        .iter()
+        .map(|h| {
+            vec![
+                h.contact.to_string(),
+                sig(h.speed_in, 3),
+                sig(h.beta_in, 2),
+                sig(h.tilt_in, 2),
+                sig(1e3 * h.contact_s, 3),
+                sig(h.exit_angle, 2),
+                sig(h.hop, 2),
+                sig(h.flight, 2),
+                sig(h.in_contact, 2),
+            ]
+        })
+        .collect();
+    s.push_str(&md_table(
+        &[
+            "contact",
+            "speed in (m/s)",
+            "β in (°)",
+            "tilt in (°)",
+            "contact (ms)",
+            "exit angle (°)",
+            "hop (m)",
+            "flight (m)",
+            "in contact (m)",
+        ],
+        &rows,
+    ));
+    let over: Vec<&TailHop> = r.tail.iter().filter(|h| h.hop >= 0.5).collect();
+    let flights_short = r.tail.iter().all(|h| h.flight < 0.5);
+    if let Some(w) = tail_split_words(&r.tail) {
+        s.push_str(&format!(
+            "\n{} of {} hops are 0.5 m or longer; {w}.",
+            over.len(),
+            r.tail.len()
+        ));
+    }
+    if !over.is_empty() {
+        let sum = |x: &dyn Fn(&TailHop) -> f64| over.iter().map(|h| x(h)).sum::<f64>();
+        let share = sum(&|h| h.in_contact) / sum(&|h| h.hop);
+        s.push_str(&format!(
+            " Over the hops of 0.5 m or longer the stone covers {} % of the length in contact and \
+             the rest in flight{}; the criterion is not met.",
+            sig(100.0 * share, 2),
+            if flights_short {
+                " (every flight alone is under 0.5 m)"
+            } else {
+                ""
+            }
+        ));
+    }
+    s.push('\n');
     s
 }
 

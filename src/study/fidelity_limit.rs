@@ -28,6 +28,8 @@ const GYROSCOPE: &str = "gyroscope alone (air and friction off)";
 #[derive(Debug, Clone)]
 pub struct Variant {
     pub label: &'static str,
+    /// Whether the air acts in flight.
+    pub air: bool,
     /// Whether its spin is free of every effect that grows with spin (no friction), so that its
     /// infinite-spin limit is its locked throw.
     pub pure_gyroscope_limit: bool,
@@ -115,6 +117,7 @@ pub fn compute(
         };
         variants.push(Variant {
             label,
+            air,
             pure_gyroscope_limit: !friction,
             sweep,
             locked: locked_ensemble(&p, q)?,
@@ -257,7 +260,8 @@ fn variant_words(v: &Variant) -> String {
 
 /// Why moderate spin beats the limit: the first contact's turn lowers the tilt.
 fn mechanism_words(l: &LimitStudy, quoted: &Quoted) -> String {
-    let Some(g) = l.variants.iter().find(|v| v.label == GYROSCOPE) else {
+    let gyroscope = |v: &&Variant| v.pure_gyroscope_limit && !v.air;
+    let Some(g) = l.variants.iter().find(gyroscope) else {
         return String::new();
     };
     let (Some(peak), Some(top)) = (g.peak(), g.sweep.last()) else {
@@ -345,6 +349,7 @@ mod tests {
     fn a_peak_above_the_limit_is_called_a_fall_the_model_must_make() {
         let v = Variant {
             label: GYROSCOPE,
+            air: false,
             pure_gyroscope_limit: true,
             sweep: vec![
                 run(10.0, vec![3, 4, 5], 8.0),
