@@ -103,6 +103,25 @@ fn random_throws_end_cleanly_short() {
     assert!(t.throws * 2 > t.inputs, "{} of {}", t.throws, t.inputs);
 }
 
+/// Finding S4 (docs/reliability.md): symplectic Euler on a light plate at an 8 ms tick grew to
+/// speeds of 1e223 m/s within a tick; the state stayed finite but its energy overflowed to +∞.
+/// The run must end `diverged` at the last state whose energy is finite.
+#[test]
+fn soak_input_300536_ends_diverged_with_a_finite_energy() {
+    let data = input(300_536, 512);
+    assert!(simulated(&data));
+    simulate::run(&data);
+    let p = simulate::preset(&mut Unstructured::new(&data)).unwrap();
+    let mut sim = stoneskip::sim::Simulation::new(&p).unwrap();
+    while !sim.is_finished() {
+        sim.tick();
+        assert!(sim.energy().is_finite(), "t = {}", sim.time());
+    }
+    assert_eq!(sim.outcome(), Some(stoneskip::sim::Outcome::Diverged));
+    let why = sim.diverged_reason().unwrap_or("");
+    assert!(why.contains("SymplecticEuler"), "{why}");
+}
+
 #[test]
 #[ignore = "the long headless soak: run it by hand (see the module doc)"]
 fn random_throws_end_cleanly_long() {

@@ -531,8 +531,12 @@ impl Simulation {
     }
     /// Mechanical energy (J): kinetic (translation and rotation) plus potential m g z.
     pub fn energy(&self) -> f64 {
-        let s = &self.motion.state;
-        let w = self.angular_velocity();
+        self.energy_of(&self.motion.state)
+    }
+
+    /// [`Simulation::energy`] of state `s`.
+    fn energy_of(&self, s: &BodyState) -> f64 {
+        let w = integrate::angular_velocity(&self.stone, self.preset.physics.rotation, s);
         0.5 * self.stone.mass * s.velocity.length_squared()
             + 0.5 * w.dot(s.angular_momentum)
             + self.stone.mass * self.preset.physics.gravity * s.position.z
@@ -825,11 +829,12 @@ impl Simulation {
             let t0 = self.motion.time;
             let h_max = t_end - t0;
             let step = self.take_step(h_max);
-            if !step.state.is_finite() {
+            if !step.state.is_finite() || !self.energy_of(&step.state).is_finite() {
                 // A diverging explicit scheme (e.g. Paper at a huge step): stop at the last finite
-                // state rather than report NaN.
+                // state rather than report NaN. A state can stay finite while its energy overflows
+                // (finding S4: speeds of 1e223 m/s within one tick), so the energy is checked too.
                 self.diverge(format!(
-                    "the {:?} integrator's state became non-finite in a step of {:.3e} s from t = {t0:.6} s \
+                    "the {:?} integrator's state (or its energy) became non-finite in a step of {:.3e} s from t = {t0:.6} s \
                      (unstable at this step; a smaller dt or the Adaptive integrator avoids it)",
                     self.preset.physics.integrator, step.h
                 ));
