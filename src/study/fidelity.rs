@@ -731,6 +731,49 @@ pub fn run(ctx: &Ctx) -> Result<(), StudyError> {
     ctx.write("README.md", &report(ctx, &f))
 }
 
+/// §4's CSVs: the record class's throws and the record run's tail.
+fn write_record_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
+    let mut c = Csv::new(&SHAPE_HEADER);
+    for r in &f.record {
+        c.push(shape_row(&format!("{} m/s", r.speed), &r.shape));
+    }
+    if !c.is_empty() {
+        ctx.write_csv("record_class.csv", &c)?;
+    }
+    let mut c = Csv::new(&[
+        "speed_m_s",
+        "contact",
+        "speed_in_m_s",
+        "beta_in_deg",
+        "tilt_in_deg",
+        "contact_s",
+        "exit_angle_deg",
+        "hop_m",
+        "flight_m",
+        "in_contact_m",
+    ]);
+    for r in &f.record {
+        for h in &r.tail {
+            c.push(vec![
+                r.speed.into(),
+                h.contact.into(),
+                h.speed_in.into(),
+                h.beta_in.into(),
+                h.tilt_in.into(),
+                h.contact_s.into(),
+                h.exit_angle.into(),
+                h.hop.into(),
+                h.flight.into(),
+                h.in_contact.into(),
+            ]);
+        }
+    }
+    if !c.is_empty() {
+        ctx.write_csv("record_tail.csv", &c)?;
+    }
+    Ok(())
+}
+
 fn shape_row(label: &str, t: &ThrowShape) -> Vec<Val> {
     vec![
         label.into(),
@@ -868,44 +911,7 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         c.push(shape_row(&n.label, &n.shape));
     }
     ctx.write_csv("near_field.csv", &c)?;
-    let mut c = Csv::new(&SHAPE_HEADER);
-    for r in &f.record {
-        c.push(shape_row(&format!("{} m/s", r.speed), &r.shape));
-    }
-    if !c.is_empty() {
-        ctx.write_csv("record_class.csv", &c)?;
-    }
-    let mut c = Csv::new(&[
-        "speed_m_s",
-        "contact",
-        "speed_in_m_s",
-        "beta_in_deg",
-        "tilt_in_deg",
-        "contact_s",
-        "exit_angle_deg",
-        "hop_m",
-        "flight_m",
-        "in_contact_m",
-    ]);
-    for r in &f.record {
-        for h in &r.tail {
-            c.push(vec![
-                r.speed.into(),
-                h.contact.into(),
-                h.speed_in.into(),
-                h.beta_in.into(),
-                h.tilt_in.into(),
-                h.contact_s.into(),
-                h.exit_angle.into(),
-                h.hop.into(),
-                h.flight.into(),
-                h.in_contact.into(),
-            ]);
-        }
-    }
-    if !c.is_empty() {
-        ctx.write_csv("record_tail.csv", &c)?;
-    }
+    write_record_csvs(ctx, f)?;
     let mut c = Csv::new(&[
         "tilt_deg",
         "u_min_before",
