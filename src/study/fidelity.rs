@@ -22,6 +22,7 @@ use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign,
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
 use super::fidelity_air::{self, AirStudy};
+use super::fidelity_grid::{self, GridStudy};
 use super::fidelity_limit::{self, LimitStudy, Quoted};
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
@@ -681,6 +682,7 @@ pub struct Fidelity {
     pub presets: Vec<PresetCheck>,
     pub air: AirStudy,
     pub limit: LimitStudy,
+    pub grid: GridStudy,
 }
 
 /// Runs every part of the study.
@@ -711,6 +713,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let presets = presets(q)?;
     let air = fidelity_air::compute(ctx, &presets)?;
     let limit = fidelity_limit::compute(ctx, &spin, &air.sweep_off)?;
+    let grid = fidelity_grid::compute(ctx)?;
     Ok(Fidelity {
         bounces,
         paper,
@@ -727,6 +730,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         presets,
         air,
         limit,
+        grid,
     })
 }
 
@@ -943,7 +947,8 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     }
     ctx.write_csv("presets.csv", &c)?;
     fidelity_air::write_csvs(ctx, &f.air)?;
-    fidelity_limit::write_csvs(ctx, &f.limit)
+    fidelity_limit::write_csvs(ctx, &f.limit)?;
+    fidelity_grid::write_csvs(ctx, &f.grid)
 }
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
@@ -1112,6 +1117,11 @@ fn lead_table(f: &Fidelity) -> String {
             )
         },
     ]);
+    rows.push(vec![
+        "…and on finer columns, where the near field should converge (§9)".into(),
+        "—".into(),
+        fidelity_grid::lead_words(&f.grid),
+    ]);
     if let Some(r) = f.record.first() {
         rows.push(vec![
             "record class: ~19 m/s, tens of skips over ~60–120 m (§3)".into(),
@@ -1242,6 +1252,7 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&preset_section(f));
     s.push_str(&fidelity_air::section(&f.air, &f.spin));
     s.push_str(&fidelity_limit::section(&f.limit, &quoted(f)));
+    s.push_str(&fidelity_grid::section(&f.grid));
     s
 }
 

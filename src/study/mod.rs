@@ -13,6 +13,7 @@ pub mod accuracy;
 pub mod defaults;
 pub mod fidelity;
 pub mod fidelity_air;
+pub mod fidelity_grid;
 pub mod fidelity_limit;
 pub mod phase;
 pub mod plot;

@@ -143,7 +143,9 @@ const MODEL: &[(&str, &str, &str)] = &[
         "Wavy contact",
         "Contact against the grid's height instead of z = 0: the stone rides on the water its own \
          pressure moves, which breaks up the steady planing glides of flat water (the shipped \
-         presets use it on 2 cm columns; results still move with the cell and the depth).",
+         presets use it on 2 cm columns). Not converged: results move with the cell and the \
+         depth, and below 1.4 cm the glides come back (the columns are shallow-water waves; \
+         at the stone's scale real water is deep).",
         "the paper (future work); Hewitt et al. 2011; docs/studies/fidelity",
     ),
     (
