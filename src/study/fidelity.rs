@@ -1071,24 +1071,9 @@ pub(super) fn spin_drops(runs: &[SpinRun]) -> usize {
     drops
 }
 
-fn lead_table(f: &Fidelity) -> String {
+/// The lead table's "no hovercraft" rows: the shipped presets, and §9's finer columns.
+fn hovercraft_rows(f: &Fidelity) -> Vec<Vec<String>> {
     let mut rows = Vec::new();
-    let d = f.presets.iter().find(|p| p.stem == "default");
-    if let Some(d) = d {
-        rows.push(vec![
-            "no steady planing well above the minimal speed (Hewitt 2011)".into(),
-            format!(
-                "default throw: last contact {:.0} % of {:.1} m",
-                100.0 * d.before.final_share,
-                d.before.distance
-            ),
-            format!(
-                "{:.0} % of {:.1} m",
-                100.0 * d.after.final_share,
-                d.after.distance
-            ),
-        ]);
-    }
     let glides = f.presets.iter().filter(|p| p.glide.is_some()).count();
     rows.push(vec![
         "no hovercraft in any shipped preset that skips twice (issue 11)".into(),
@@ -1122,6 +1107,28 @@ fn lead_table(f: &Fidelity) -> String {
         "—".into(),
         fidelity_grid::lead_words(&f.grid),
     ]);
+    rows
+}
+
+fn lead_table(f: &Fidelity) -> String {
+    let mut rows = Vec::new();
+    let d = f.presets.iter().find(|p| p.stem == "default");
+    if let Some(d) = d {
+        rows.push(vec![
+            "no steady planing well above the minimal speed (Hewitt 2011)".into(),
+            format!(
+                "default throw: last contact {:.0} % of {:.1} m",
+                100.0 * d.before.final_share,
+                d.before.distance
+            ),
+            format!(
+                "{:.0} % of {:.1} m",
+                100.0 * d.after.final_share,
+                d.after.distance
+            ),
+        ]);
+    }
+    rows.extend(hovercraft_rows(f));
     if let Some(r) = f.record.first() {
         rows.push(vec![
             "record class: ~19 m/s, tens of skips over ~60–120 m (§3)".into(),
