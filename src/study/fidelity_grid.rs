@@ -6,10 +6,11 @@
 //! stone (λ ≈ 2R) is a deep-water wave: ω² = g k tanh(kH) (Lamb 1932, §228) with kH ≫ 1, so it
 //! runs at √(g/k), slower, and disperses. A near field that is a property of the water, not of the
 //! grid, must therefore converge as the cells shrink and must not depend on the rest depth H once
-//! H is many stone sizes. This section throws the default throw from the §2 ensemble's launch
-//! heights over cells from 5 cm to 7 mm and depths from 0.1 to 1 m, on one lake wide enough for
-//! the curve, and reads the "no hovercraft" rule off every run. Compute, then results, then the
-//! report.
+//! H is many stone sizes. This section throws the default and magic-angle throws from the §2
+//! ensemble's launch heights over cells from 5 cm to 7 mm (the default also over depths from 0.1
+//! to 1 m) and the record throw over 2 cm to 1 cm, on lakes wide enough for their curves, and reads
+//! the "no hovercraft" rule and the record class's count (criterion 4) off every run. Compute,
+//! then results, then the report.
 
 use glam::DVec3;
 
@@ -24,10 +25,6 @@ use super::fidelity::{
 use super::table::{md_table, sig, Csv};
 use super::{check_cancel, Ctx, StudyError};
 
-/// The lake of every run (m): long enough for the default throw, wide enough that its curve
-/// stays on the water at 7 mm columns (3.9 M columns, under the grid's 4 M limit).
-const LAKE: [f64; 2] = [32.0, 6.0];
-const ORIGIN: [f64; 2] = [-2.0, -3.0];
 /// The shipped presets' column and rest depth (m), the row the others are read against.
 const SHIPPED: (f64, f64) = (0.02, 0.3);
 
@@ -97,23 +94,65 @@ pub struct GridStudy {
     pub gravity: f64,
 }
 
-/// The shipped throws refined; the first is also thrown over other rest depths.
-const THROWS: [&str; 2] = ["default", "magic_angle"];
+/// A shipped throw refined: its columns (m) and its lake (m), long enough for the throw and wide
+/// enough for its curve, at most 4 M columns at its finest cell (the grid's limit). The first is
+/// also thrown over other rest depths.
+struct Throw {
+    stem: &'static str,
+    cells: &'static [f64],
+    lake: [f64; 2],
+}
+
+const THROWS: [Throw; 3] = [
+    Throw {
+        stem: "default",
+        cells: &[0.05, 0.03, 0.02, 0.014, 0.01, 0.007],
+        lake: [32.0, 6.0],
+    },
+    Throw {
+        stem: "magic_angle",
+        cells: &[0.05, 0.03, 0.02, 0.014, 0.01, 0.007],
+        lake: [32.0, 6.0],
+    },
+    // The record class runs ~60 m: 1 cm is its finest cell under 4 M columns.
+    Throw {
+        stem: "record_throw",
+        cells: &[0.02, 0.014, 0.01],
+        lake: [62.0, 6.0],
+    },
+];
+
+/// The lake of `stem`'s runs (m), its −x, −y corner 2 m behind the launch and centred.
+fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
+    let size = THROWS
+        .iter()
+        .find(|t| t.stem == stem)
+        .map_or([32.0, 6.0], |t| t.lake);
+    (size, [-2.0, -0.5 * size[1]])
+}
+
+/// The throws `cases` holds, in order.
+fn throw_stems(quick: bool) -> Vec<&'static str> {
+    let mut t: Vec<&'static str> = Vec::new();
+    for (stem, ..) in cases(quick) {
+        if !t.contains(&stem) {
+            t.push(stem);
+        }
+    }
+    t
+}
 
 /// (throw, cell, rest depth) of every case.
 fn cases(quick: bool) -> Vec<(&'static str, f64, f64)> {
+    let first = THROWS[0].stem;
     if quick {
-        return vec![(THROWS[0], QUICK_CELL, SHIPPED.1)];
+        return vec![(first, QUICK_CELL, SHIPPED.1)];
     }
     let mut c: Vec<(&'static str, f64, f64)> = THROWS
         .iter()
-        .flat_map(|&stem| {
-            [0.05, 0.03, 0.02, 0.014, 0.01, 0.007]
-                .into_iter()
-                .map(move |cell| (stem, cell, SHIPPED.1))
-        })
+        .flat_map(|t| t.cells.iter().map(|&cell| (t.stem, cell, SHIPPED.1)))
         .collect();
-    c.extend([(THROWS[0], SHIPPED.0, 0.1), (THROWS[0], SHIPPED.0, 1.0)]);
+    c.extend([(first, SHIPPED.0, 0.1), (first, SHIPPED.0, 1.0)]);
     c
 }
 
@@ -156,10 +195,11 @@ pub fn compute(ctx: &Ctx) -> Result<GridStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the near field under refinement");
     let mut presets = Vec::new();
-    for stem in THROWS {
+    for stem in throw_stems(q) {
         let mut p = shipped_for(stem, q)?;
-        p.water.size = LAKE;
-        p.water.origin = Some(ORIGIN);
+        let (size, origin) = lake(stem);
+        p.water.size = size;
+        p.water.origin = Some(origin);
         presets.push((stem, p));
     }
     let offsets = ensemble_offsets(q);
@@ -320,6 +360,15 @@ fn throws(g: &GridStudy) -> Vec<&'static str> {
     t
 }
 
+/// "a", "a and b", "a, b and c".
+fn and_list(items: &[&str]) -> String {
+    match items.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        Some((last, _)) => (*last).to_owned(),
+        None => String::new(),
+    }
+}
+
 /// One line for the lead table: how many runs break the rule, at the shipped cell and finer.
 pub fn lead_words(g: &GridStudy) -> String {
     let cells = by_cell(g, |cell| cell <= SHIPPED.0);
@@ -382,7 +431,7 @@ fn findings(g: &GridStudy) -> String {
     let by_depth: Vec<&GridCase> = g
         .cases
         .iter()
-        .filter(|c| c.stem == THROWS[0] && c.cell == SHIPPED.0)
+        .filter(|c| c.stem == THROWS[0].stem && c.cell == SHIPPED.0)
         .collect();
     if by_depth.len() > 1 {
         let skips: Vec<String> = by_depth
@@ -404,14 +453,60 @@ fn findings(g: &GridStudy) -> String {
             "\n- At 2 cm the rest depth changes the {} throw's count ({}), although for a wave as \
              long as the stone every H here is deep water (kH ≥ {}, tanh kH ≥ {}): on real water \
              the lake's depth would not reach the stone's near field.",
-            THROWS[0],
+            THROWS[0].stem,
             skips.join(", "),
             sig(kh, 2),
             sig(kh.tanh(), 3)
         ));
     }
+    s.push_str(&record_words(g));
     s.push_str(&dispersion_words(g));
     s
+}
+
+/// The record class's throw (issue 11, criterion 4: at least this many skips).
+const RECORD: (&str, usize) = ("record_throw", 40);
+
+/// Does the record class survive finer columns?
+fn record_words(g: &GridStudy) -> String {
+    let cases: Vec<&GridCase> = g
+        .cases
+        .iter()
+        .filter(|c| c.stem == RECORD.0 && c.depth == SHIPPED.1)
+        .collect();
+    if cases.len() < 2 {
+        return String::new();
+    }
+    let at: Vec<String> = cases
+        .iter()
+        .map(|c| {
+            format!(
+                "{} cm: median {} skips, longest contact {} s",
+                cm(c.cell),
+                lower_median(&c.skips()).unwrap_or(0),
+                sig(
+                    lower_median_f(&c.sorted(|r| r.longest_contact)).unwrap_or(0.0),
+                    2
+                )
+            )
+        })
+        .collect();
+    let keep: Vec<String> = cases
+        .iter()
+        .filter(|c| lower_median(&c.skips()).unwrap_or(0) >= RECORD.1)
+        .map(|c| format!("{} cm", cm(c.cell)))
+        .collect();
+    format!(
+        "\n- The record class (criterion 4: at least {} skips) under refinement: {}. It keeps \
+         its count {}.",
+        RECORD.1,
+        at.join("; "),
+        if keep.is_empty() {
+            "on none of them".to_owned()
+        } else {
+            format!("on {} only", keep.join(", "))
+        }
+    )
 }
 
 /// How high the water the first throw rode stood, at the shipped cell and finer.
@@ -419,7 +514,7 @@ fn crest_words(g: &GridStudy) -> String {
     let crests: Vec<String> = g
         .cases
         .iter()
-        .filter(|c| c.stem == THROWS[0] && c.depth == SHIPPED.1 && c.cell <= SHIPPED.0)
+        .filter(|c| c.stem == THROWS[0].stem && c.depth == SHIPPED.1 && c.cell <= SHIPPED.0)
         .filter_map(|c| {
             lower_median_f(&c.sorted(|r| r.crest))
                 .map(|x| format!("{} mm at {} cm", sig(1e3 * x, 2), cm(c.cell)))
@@ -432,7 +527,7 @@ fn crest_words(g: &GridStudy) -> String {
         " The {} throw's lowest vertex stood well above the still level while in contact \
          (medians {}): it rides water that earlier contacts and its own pressure raised, so \
          these counts are the near field's, not flat water's.",
-        THROWS[0],
+        THROWS[0].stem,
         crests.join(", ")
     )
 }
@@ -507,14 +602,20 @@ fn dispersion_words(g: &GridStudy) -> String {
 pub fn section(g: &GridStudy) -> String {
     let mut s = format!(
         "\n## 9. The near field under refinement\n\nThe shipped {} throw{} (wavy contact, the \
-         shipped model) from the §2 ensemble's launch heights on a {} × {} m lake, for column \
-         sizes and rest depths H. A run breaks the rule when it skips twice and its last \
+         shipped model) from the §2 ensemble's launch heights on lakes wide enough for their \
+         curves ({}), for column sizes and rest depths H. A run breaks the rule when it skips twice and its last \
          contact covers more than {:.0} % of the distance or an earlier one lasts longer than \
          {} s.\n\n",
-        throws(g).join(" and "),
+        and_list(&throws(g)),
         if throws(g).len() > 1 { "s" } else { "" },
-        LAKE[0],
-        LAKE[1],
+        throws(g)
+            .iter()
+            .map(|stem| {
+                let (size, _) = lake(stem);
+                format!("{stem} {} × {} m", size[0], size[1])
+            })
+            .collect::<Vec<_>>()
+            .join(", "),
         100.0 * MAX_FINAL_SHARE,
         MAX_EARLIER_CONTACT
     );
@@ -606,6 +707,28 @@ mod tests {
         // kH = 2π/0.1 × 0.3 = 18.8 for the shallowest depth at 2 cm here.
         assert!(words.contains("kH ≥ 19, tanh kH ≥ 1.00"), "{words}");
         assert!(section(&g).contains("The shipped default throw (wavy"));
+        assert_eq!(record_words(&g), "");
+        assert_eq!(and_list(&["a", "b", "c"]), "a, b and c");
+        assert_eq!(and_list(&["a"]), "a");
+        let mut rec = g.clone();
+        for (i, skips) in [(0, 54), (1, 14)] {
+            let mut c = g.cases[i].clone();
+            c.stem = RECORD.0;
+            for r in &mut c.runs {
+                r.shape.skips = skips;
+            }
+            rec.cases.push(c);
+        }
+        let words = record_words(&rec);
+        assert!(
+            words.contains("2 cm: median 54 skips, longest contact 0.10 s"),
+            "{words}"
+        );
+        assert!(words.contains("1 cm: median 14 skips"), "{words}");
+        assert!(
+            words.contains("It keeps its count on 2 cm only."),
+            "{words}"
+        );
         // A second throw's runs add to the counts at their cells.
         let mut two = g.clone();
         let mut other = two.cases[1].clone();
@@ -645,12 +768,13 @@ mod tests {
         g.cases.retain(|c| !c.is_shipped());
         assert!(dispersion_words(&g).contains("full study only"));
         let full = cases(false);
-        for stem in THROWS {
-            assert!(full.contains(&(stem, SHIPPED.0, SHIPPED.1)));
-            assert!(full.iter().any(|c| c.0 == stem && c.1 < SHIPPED.0));
+        for t in &THROWS {
+            assert!(full.contains(&(t.stem, SHIPPED.0, SHIPPED.1)));
+            assert!(full.iter().any(|c| c.0 == t.stem && c.1 < SHIPPED.0));
+            // Every lake stays under the grid's 4 M columns at its finest cell.
+            let finest = t.cells.iter().copied().fold(f64::INFINITY, f64::min);
+            let (size, _) = lake(t.stem);
+            assert!((size[0] / finest).ceil() * (size[1] / finest).ceil() <= 4.0e6);
         }
-        // The finest lake stays under the grid's 4 M columns.
-        let finest = full.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
-        assert!((LAKE[0] / finest).ceil() * (LAKE[1] / finest).ceil() <= 4.0e6);
     }
 }
