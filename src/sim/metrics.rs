@@ -193,6 +193,7 @@ mod tests {
             force_evals: 0,
             contacts,
             water: None,
+            near_field: None,
             diverged_reason: None,
         }
     }

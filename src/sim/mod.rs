@@ -44,7 +44,7 @@ use integrate::{
 };
 use params::{Integrator, ParamError, Physics, Preset, Rotation, Shape};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
-use water::{EtaPatch, PatchReader, WaterGrid};
+use water::{EtaPatch, PatchReader, SpectralConfig, SpectralField, WaterGrid};
 
 /// Errors of building or driving a simulation.
 #[derive(Debug, thiserror::Error)]
@@ -121,7 +121,7 @@ pub struct WaterSummary {
     pub volume_initial: f64,
     pub volume_final: f64,
     /// Whether the water was stepped. A headless run whose results do not read the water (wavy
-    /// contact off: the stone sees the plane z = 0) leaves it at rest; see
+    /// contact off: the stone sees the plane z = 0; or the spectral near field) leaves it at rest; see
     /// [`Simulation::skip_unread_water`].
     pub stepped: bool,
 }
@@ -141,6 +141,20 @@ pub struct Summary {
     pub force_evals: u64,
     pub contacts: Vec<ContactEvent>,
     pub water: Option<WaterSummary>,
+    /// The spectral near field the stone touched (`water.near_field: Spectral`), absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub near_field: Option<NearFieldSummary>,
+}
+
+/// The spectral near field of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NearFieldSummary {
+    pub cells: usize,
+    /// m
+    pub cell: f64,
+    /// N·s the stone pushed onto the patch, and N·s whose footprint lay off it (lost).
+    pub impulse_received: f64,
+    pub impulse_missed: f64,
 }
 
 /// One accepted integration step, for trajectories and plots: everything at the step's end.
@@ -262,16 +276,26 @@ enum SurfaceRef<'a> {
         max: f64,
         slope: f64,
     },
+    /// The spectral near field (`water.near_field: Spectral`).
+    Near {
+        field: &'a SpectralField,
+        max: f64,
+        slope: f64,
+    },
 }
 
 impl<'a> SurfaceRef<'a> {
     fn new(
         water: &'a Option<WaterGrid>,
         patch: &'a EtaPatch,
+        near: Option<&'a SpectralField>,
         wavy: bool,
         max: f64,
         slope: f64,
     ) -> Self {
+        if let Some(field) = near {
+            return SurfaceRef::Near { field, max, slope };
+        }
         match (water, wavy) {
             (Some(grid), true) => SurfaceRef::Water {
                 reader: PatchReader::new(grid, patch),
@@ -286,7 +310,7 @@ impl<'a> SurfaceRef<'a> {
     fn max_slope(&self) -> f64 {
         match self {
             SurfaceRef::Flat => 0.0,
-            SurfaceRef::Water { slope, .. } => *slope,
+            SurfaceRef::Water { slope, .. } | SurfaceRef::Near { slope, .. } => *slope,
         }
     }
 }
@@ -296,18 +320,20 @@ impl Surface for SurfaceRef<'_> {
         match self {
             SurfaceRef::Flat => FlatSurface.height(x, y),
             SurfaceRef::Water { reader, .. } => reader.height(x, y),
+            SurfaceRef::Near { field, .. } => field.height(x, y),
         }
     }
     fn max_height(&self) -> f64 {
         match self {
             SurfaceRef::Flat => 0.0,
-            SurfaceRef::Water { max, .. } => *max,
+            SurfaceRef::Water { max, .. } | SurfaceRef::Near { max, .. } => *max,
         }
     }
     fn max_height_over(&self, lo: [f64; 2], hi: [f64; 2]) -> f64 {
         match self {
             SurfaceRef::Flat => 0.0,
             SurfaceRef::Water { reader, max, .. } => reader.max_height_over(lo, hi).unwrap_or(*max),
+            SurfaceRef::Near { field, .. } => field.bounds_over(lo, hi).0,
         }
     }
     fn is_flat(&self) -> bool {
@@ -350,6 +376,8 @@ pub struct Simulation {
     /// The air in flight (`physics.air`), `None`: exact force-free flight.
     air: Option<Air>,
     water: Option<WaterGrid>,
+    /// The spectral near field the stone touches (`water.near_field: Spectral` with wavy contact).
+    near: Option<SpectralField>,
     water_max_eta: f64,
     /// Upper bound of the water surface's slope (wavy contact), for the flight's clearance bound.
     water_max_slope: f64,
@@ -418,7 +446,9 @@ impl Simulation {
             None
         };
         let volume_initial = water.as_ref().map_or(0.0, |w| w.volume());
+        let near = near_field(preset, [state.position.x, state.position.y]);
         let mut sim = Self {
+            near,
             hydro: HydroParams::from_physics(&preset.physics),
             air: air_model(&preset.physics, &preset.stone.shape),
             preset: preset.clone(),
@@ -549,6 +579,9 @@ impl Simulation {
         if let Some(w) = self.water.as_mut() {
             w.set_constants(physics.gravity, physics.water_density)?;
         }
+        if let Some(n) = self.near.as_mut() {
+            n.set_constants(physics.gravity, physics.water_density);
+        }
         self.preset.physics = physics;
         self.hydro = HydroParams::from_physics(&physics);
         self.air = air_model(&physics, &self.preset.stone.shape);
@@ -581,6 +614,15 @@ impl Simulation {
                 volume_final: w.volume(),
                 stepped: self.step_water,
             }),
+            near_field: self.near.as_ref().map(|n| {
+                let (received, missed) = n.impulse_received();
+                NearFieldSummary {
+                    cells: n.cells(),
+                    cell: n.cell(),
+                    impulse_received: received,
+                    impulse_missed: missed,
+                }
+            }),
         }
     }
 
@@ -598,12 +640,12 @@ impl Simulation {
     }
 
     /// Stops stepping the water when nothing the run reports depends on it: with wavy contact off
-    /// the stone meets the plane z = 0, so its motion, contacts and outcome are the same with the
-    /// water at rest (the lake's extent still bounds the run: `left_domain`). Headless runs call this;
+    /// the stone meets the plane z = 0 (with the spectral near field, that field), so its motion,
+    /// contacts and outcome are the same with the water at rest (the lake's extent still bounds the run: `left_domain`). Headless runs call this;
     /// the app does not (it shows the rings). Returns whether the water is now left at rest; the
     /// summary says so (`water.stepped`).
     pub fn skip_unread_water(&mut self) -> bool {
-        if self.water.is_some() && !self.preset.water.wavy_contact {
+        if self.water.is_some() && (!self.preset.water.wavy_contact || self.near.is_some()) {
             self.step_water = false;
         }
         !self.step_water
@@ -686,6 +728,13 @@ impl Simulation {
             // Every tick: the bounds cover the region the stone can reach in the next one.
             self.refresh_water_max();
         }
+        if let Some(n) = self.near.as_mut() {
+            n.advance(dt);
+            let p = self.motion.state.position;
+            n.follow(p.x, p.y);
+            self.motion.fsal = None;
+            self.refresh_water_max();
+        }
     }
 
     /// Hands the face impulses gathered so far in the tick to the water, in their order (the grid
@@ -694,6 +743,11 @@ impl Simulation {
         if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             for l in &self.motion.pending {
                 w.deposit_load_box(l.x, l.y, l.half, l.impulse, l.horizontal);
+            }
+        }
+        if let Some(n) = self.near.as_mut() {
+            for l in &self.motion.pending {
+                n.deposit(l.x, l.y, l.half, l.impulse);
             }
         }
         self.motion.pending.clear();
@@ -711,14 +765,25 @@ impl Simulation {
             self.water_max_slope = 0.0;
             return;
         }
-        let Some(w) = &self.water else { return };
         let s = &self.motion.state;
+        if let Some(n) = &self.near {
+            let reach = self.reach() + 2.0 * n.cell();
+            let (lo, hi) = (
+                [s.position.x - reach, s.position.y - reach],
+                [s.position.x + reach, s.position.y + reach],
+            );
+            let (m, slope) = n.bounds_over(lo, hi);
+            self.water_max_eta = if m.is_finite() { m } else { 0.0 };
+            self.water_max_slope = if slope.is_finite() {
+                slope
+            } else {
+                f64::INFINITY
+            };
+            return;
+        }
+        let Some(w) = &self.water else { return };
         // Inside an open tick (a live change of the physics) the rest of that tick, too.
-        let dt = self
-            .open_tick
-            .map_or(self.preset.physics.dt, |t| t.dt.max(self.preset.physics.dt));
-        let speed = s.velocity.length() + self.preset.physics.gravity * dt;
-        let reach = self.stone.bounding_radius + 2.0 * speed * dt + 2.0 * w.cell();
+        let reach = self.reach() + 2.0 * w.cell();
         let (m, slope) = local_bounds(w, &mut self.water_patch, s.position.x, s.position.y, reach);
         self.water_max_eta = if m.is_finite() { m } else { 0.0 };
         self.water_max_slope = if slope.is_finite() {
@@ -728,10 +793,24 @@ impl Simulation {
         };
     }
 
+    /// How far from its centre of mass the stone can reach the water in the next tick: its bounding
+    /// radius plus twice the distance it can travel (its speed, plus what gravity adds, times the
+    /// tick; the water only slows it).
+    fn reach(&self) -> f64 {
+        let s = &self.motion.state;
+        // Inside an open tick (a live change of the physics) the rest of that tick, too.
+        let dt = self
+            .open_tick
+            .map_or(self.preset.physics.dt, |t| t.dt.max(self.preset.physics.dt));
+        let speed = s.velocity.length() + self.preset.physics.gravity * dt;
+        self.stone.bounding_radius + 2.0 * speed * dt
+    }
+
     fn surface(&self) -> SurfaceRef<'_> {
         SurfaceRef::new(
             &self.water,
             &self.water_patch,
+            self.near.as_ref(),
             self.preset.water.wavy_contact,
             self.water_max_eta,
             self.water_max_slope,
@@ -870,6 +949,7 @@ impl Simulation {
         let surface = SurfaceRef::new(
             &self.water,
             &self.water_patch,
+            self.near.as_ref(),
             self.preset.water.wavy_contact,
             self.water_max_eta,
             self.water_max_slope,
@@ -965,7 +1045,7 @@ impl Simulation {
 
     /// Whether a lake will take the stone's face loads (there is one, and it steps).
     fn water_takes_loads(&self) -> bool {
-        self.water.is_some() && self.step_water
+        (self.water.is_some() && self.step_water) || self.near.is_some()
     }
 
     /// The flight from `s` over `t` (with the air when the preset has it).
@@ -1437,6 +1517,27 @@ fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
         };
         h = (h * shrink).max(h_min);
     }
+}
+
+/// The spectral near field of a preset that asks for one (wavy contact on a lake with
+/// `near_field: Spectral`), centred on the launch point.
+fn near_field(preset: &Preset, centre: [f64; 2]) -> Option<SpectralField> {
+    let w = &preset.water;
+    if !(w.enabled && w.wavy_contact && w.near_field == params::NearField::Spectral) {
+        return None;
+    }
+    let s = &w.spectral;
+    let cfg = SpectralConfig {
+        cells: s.cells as usize,
+        cell: s.cell,
+        depth: w.depth,
+        gravity: preset.physics.gravity,
+        density: preset.physics.water_density,
+        surface_tension: s.surface_tension,
+        viscosity: s.viscosity,
+        sponge: true,
+    };
+    SpectralField::new(cfg, centre)
 }
 
 /// The highest η (−∞ when no column lies within `reach` of (x, y)) and the largest

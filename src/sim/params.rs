@@ -448,6 +448,47 @@ pub struct WaterParams {
     /// Storage precision of depths and flows.
     pub precision: Precision,
     pub swell: Option<Swell>,
+    /// What the stone touches with wavy contact: the columns themselves, or a spectral patch of
+    /// deep-water potential flow that travels with it (`sim::water::spectral`). Omitted: `Columns`.
+    pub near_field: NearField,
+    /// The spectral near field's patch and constants (read with `near_field: Spectral`).
+    pub spectral: SpectralParams,
+}
+
+/// The surface the stone touches with wavy contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum NearField {
+    /// The lake's columns (shallow-water waves at every wavelength).
+    #[default]
+    Columns,
+    /// Linear potential flow of depth H with the capillary–gravity dispersion relation on a square
+    /// patch that follows the stone; the columns still take the stone's impulses and show the rings.
+    Spectral,
+}
+
+/// The spectral near field (`water.near_field: Spectral`): Lamb 1932 §§229, 267, 348.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SpectralParams {
+    /// Cells along each side of the patch: a power of two, 16–1024.
+    pub cells: u32,
+    /// m: the cell side (the patch is `cells × cell` square).
+    pub cell: f64,
+    /// N/m: surface tension σ (capillary waves; 0.0728 is clean water at 20 °C).
+    pub surface_tension: f64,
+    /// m²/s: kinematic viscosity ν (waves decay as e^{−2νk²t}; 1.0e-6 is water at 20 °C).
+    pub viscosity: f64,
+}
+
+impl Default for SpectralParams {
+    fn default() -> Self {
+        Self {
+            cells: 128,
+            cell: 0.01,
+            surface_tension: 0.0728,
+            viscosity: 1.0e-6,
+        }
+    }
 }
 
 impl Default for WaterParams {
@@ -464,6 +505,8 @@ impl Default for WaterParams {
             limiter: Limiter::MassConserving,
             precision: Precision::F32,
             swell: None,
+            near_field: NearField::Columns,
+            spectral: SpectralParams::default(),
         }
     }
 }
@@ -768,6 +811,34 @@ impl WaterParams {
                 360.0,
                 "degrees",
             )?;
+        }
+        self.validate_spectral()
+    }
+
+    /// The spectral near field's settings (checked whatever `near_field` says, so a preset is
+    /// valid or not independently of the switch).
+    fn validate_spectral(&self) -> Result<(), ParamError> {
+        let s = &self.spectral;
+        if !(16..=1024).contains(&s.cells) || !s.cells.is_power_of_two() {
+            return Err(ParamError::new(
+                "water.spectral.cells",
+                format!("expected a power of two from 16 to 1024, found {}", s.cells),
+            ));
+        }
+        check_range("water.spectral.cell", s.cell, 0.001, 0.5, "m")?;
+        check_range(
+            "water.spectral.surface_tension",
+            s.surface_tension,
+            0.0,
+            1.0,
+            "N/m",
+        )?;
+        check_range("water.spectral.viscosity", s.viscosity, 0.0, 0.01, "m²/s")?;
+        if self.near_field == NearField::Spectral && self.swell.is_some() {
+            return Err(ParamError::new(
+                "water.swell",
+                "expected no swell with near_field: Spectral (the near field holds only the stone's own waves); use near_field: Columns".to_string(),
+            ));
         }
         Ok(())
     }

@@ -24,6 +24,7 @@ use crate::sim::{scenario, simulate, Simulation, Summary};
 use super::fidelity_air::{self, AirStudy};
 use super::fidelity_grid::{self, GridStudy};
 use super::fidelity_limit::{self, LimitStudy, Quoted};
+use super::fidelity_spectral::{self, SpectralStudy};
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
 use super::style::law_name;
@@ -683,6 +684,7 @@ pub struct Fidelity {
     pub air: AirStudy,
     pub limit: LimitStudy,
     pub grid: GridStudy,
+    pub spectral: SpectralStudy,
 }
 
 /// Runs every part of the study.
@@ -714,6 +716,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let air = fidelity_air::compute(ctx, &presets)?;
     let limit = fidelity_limit::compute(ctx, &spin, &air.sweep_off)?;
     let grid = fidelity_grid::compute(ctx)?;
+    let spectral = fidelity_spectral::compute(ctx)?;
     Ok(Fidelity {
         bounces,
         paper,
@@ -731,6 +734,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         air,
         limit,
         grid,
+        spectral,
     })
 }
 
@@ -948,7 +952,8 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     ctx.write_csv("presets.csv", &c)?;
     fidelity_air::write_csvs(ctx, &f.air)?;
     fidelity_limit::write_csvs(ctx, &f.limit)?;
-    fidelity_grid::write_csvs(ctx, &f.grid)
+    fidelity_grid::write_csvs(ctx, &f.grid)?;
+    fidelity_spectral::write_csvs(ctx, &f.spectral)
 }
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
@@ -1107,6 +1112,11 @@ fn hovercraft_rows(f: &Fidelity) -> Vec<Vec<String>> {
         "—".into(),
         fidelity_grid::lead_words(&f.grid),
     ]);
+    rows.push(vec![
+        "…and on a deep-water near field that converges (§10)".into(),
+        "—".into(),
+        fidelity_spectral::lead_words(&f.spectral),
+    ]);
     rows
 }
 
@@ -1260,6 +1270,7 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&fidelity_air::section(&f.air, &f.spin));
     s.push_str(&fidelity_limit::section(&f.limit, &quoted(f)));
     s.push_str(&fidelity_grid::section(&f.grid));
+    s.push_str(&fidelity_spectral::section(&f.spectral, &f.grid));
     s
 }
 

@@ -26,7 +26,7 @@ use super::table::{md_table, sig, Csv};
 use super::{check_cancel, Ctx, StudyError};
 
 /// The shipped presets' column and rest depth (m), the row the others are read against.
-const SHIPPED: (f64, f64) = (0.02, 0.3);
+pub(super) const SHIPPED: (f64, f64) = (0.02, 0.3);
 
 /// One throw of the ensemble under one water setting.
 #[derive(Debug, Clone, Copy)]
@@ -123,7 +123,7 @@ const THROWS: [Throw; 3] = [
 ];
 
 /// The lake of `stem`'s runs (m), its −x, −y corner 2 m behind the launch and centred.
-fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
+pub(super) fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
     let size = THROWS
         .iter()
         .find(|t| t.stem == stem)
@@ -157,9 +157,11 @@ fn cases(quick: bool) -> Vec<(&'static str, f64, f64)> {
 }
 
 /// Runs `p` to its outcome, watching the lowest vertex while in contact.
-fn grid_run(p: &Preset, dz: f64) -> Result<GridRun, StudyError> {
+pub(super) fn grid_run(p: &Preset, dz: f64) -> Result<GridRun, StudyError> {
     check_cancel()?;
     let mut sim = Simulation::new(p)?;
+    // The lake is not stepped when nothing reads it (the spectral near field of §10).
+    sim.skip_unread_water();
     let body: Vec<DVec3> = sim.stone().mesh.positions.clone();
     let mut crest = f64::NEG_INFINITY;
     while !sim.is_finished() {
@@ -286,18 +288,18 @@ pub fn write_csvs(ctx: &Ctx, g: &GridStudy) -> Result<(), StudyError> {
 }
 
 /// The lower median of sorted finite values.
-fn lower_median_f(v: &[f64]) -> Option<f64> {
+pub(super) fn lower_median_f(v: &[f64]) -> Option<f64> {
     let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
     v.get(v.len().checked_sub(1)? / 2).copied()
 }
 
 /// A column size in centimetres, to a tenth of a millimetre ("2", "1.4", "0.7").
-fn cm(cell: f64) -> String {
+pub(super) fn cm(cell: f64) -> String {
     format!("{}", (1e3 * cell).round() / 10.0)
 }
 
 /// "median (lo–hi)" of sorted values shown by `show`.
-fn spread<T: Copy>(v: &[T], show: impl Fn(T) -> String) -> String {
+pub(super) fn spread<T: Copy>(v: &[T], show: impl Fn(T) -> String) -> String {
     match (v.first(), v.get(v.len().saturating_sub(1) / 2), v.last()) {
         (Some(&lo), Some(&mid), Some(&hi)) => {
             format!("{} ({}–{})", show(mid), show(lo), show(hi))
@@ -361,7 +363,7 @@ fn throws(g: &GridStudy) -> Vec<&'static str> {
 }
 
 /// "a", "a and b", "a, b and c".
-fn and_list(items: &[&str]) -> String {
+pub(super) fn and_list(items: &[&str]) -> String {
     match items.split_last() {
         Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
         Some((last, _)) => (*last).to_owned(),

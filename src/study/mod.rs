@@ -15,6 +15,7 @@ pub mod fidelity;
 pub mod fidelity_air;
 pub mod fidelity_grid;
 pub mod fidelity_limit;
+pub mod fidelity_spectral;
 pub mod phase;
 pub mod plot;
 pub mod spin;
