@@ -641,8 +641,8 @@ impl Simulation {
 
     /// Stops stepping the water when nothing the run reports depends on it: with wavy contact off
     /// the stone meets the plane z = 0 (with the spectral near field, that field), so its motion,
-    /// contacts and outcome are the same with the water at rest (the lake's extent still bounds the run: `left_domain`). Headless runs call this;
-    /// the app does not (it shows the rings). Returns whether the water is now left at rest; the
+    /// contacts and outcome are the same with the water at rest (the lake's extent still bounds
+    /// the run: `left_domain`). Headless runs call this; the app does not (it shows the rings). Returns whether the water is now left at rest; the
     /// summary says so (`water.stepped`).
     pub fn skip_unread_water(&mut self) -> bool {
         if self.water.is_some() && (!self.preset.water.wavy_contact || self.near.is_some()) {
@@ -717,22 +717,29 @@ impl Simulation {
             self.finish(Outcome::Timeout);
         }
         self.deposit_pending();
+        // The surface the stone reads: the near field's when it has one, else the columns'.
+        let reads_columns = self.preset.water.wavy_contact && self.near.is_none();
+        let mut moved = false;
         if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             let before = w.time();
             w.advance(dt);
-            let stepped = w.time() != before;
-            if stepped && self.preset.water.wavy_contact {
+            if w.time() != before && reads_columns {
                 // The surface the last forces were evaluated on has moved.
                 self.motion.fsal = None;
             }
-            // Every tick: the bounds cover the region the stone can reach in the next one.
-            self.refresh_water_max();
+            moved = true;
         }
         if let Some(n) = self.near.as_mut() {
-            n.advance(dt);
+            // Following the stone keeps every height where it was.
+            if n.advance(dt) {
+                self.motion.fsal = None;
+            }
             let p = self.motion.state.position;
             n.follow(p.x, p.y);
-            self.motion.fsal = None;
+            moved = true;
+        }
+        if moved {
+            // Every tick: the bounds cover the region the stone can reach in the next one.
             self.refresh_water_max();
         }
     }
@@ -765,26 +772,17 @@ impl Simulation {
             self.water_max_slope = 0.0;
             return;
         }
-        let s = &self.motion.state;
-        if let Some(n) = &self.near {
-            let reach = self.reach() + 2.0 * n.cell();
-            let (lo, hi) = (
-                [s.position.x - reach, s.position.y - reach],
-                [s.position.x + reach, s.position.y + reach],
-            );
-            let (m, slope) = n.bounds_over(lo, hi);
-            self.water_max_eta = if m.is_finite() { m } else { 0.0 };
-            self.water_max_slope = if slope.is_finite() {
-                slope
-            } else {
-                f64::INFINITY
-            };
+        let reach = self.reach();
+        let p = self.motion.state.position;
+        let (m, slope) = if let Some(n) = &self.near {
+            let r = reach + 2.0 * n.cell();
+            n.bounds_over([p.x - r, p.y - r], [p.x + r, p.y + r])
+        } else if let Some(w) = &self.water {
+            let r = reach + 2.0 * w.cell();
+            local_bounds(w, &mut self.water_patch, p.x, p.y, r)
+        } else {
             return;
-        }
-        let Some(w) = &self.water else { return };
-        // Inside an open tick (a live change of the physics) the rest of that tick, too.
-        let reach = self.reach() + 2.0 * w.cell();
-        let (m, slope) = local_bounds(w, &mut self.water_patch, s.position.x, s.position.y, reach);
+        };
         self.water_max_eta = if m.is_finite() { m } else { 0.0 };
         self.water_max_slope = if slope.is_finite() {
             slope

@@ -58,26 +58,57 @@ pub struct GridCase {
     pub runs: Vec<GridRun>,
 }
 
+/// Runs of an ensemble that break the no-hovercraft rule.
+pub(super) fn glides(runs: &[GridRun]) -> usize {
+    runs.iter().filter(|r| r.glides()).count()
+}
+
+/// Runs of an ensemble that left the lake.
+pub(super) fn left(runs: &[GridRun]) -> usize {
+    let left = Some(Outcome::LeftDomain);
+    runs.iter().filter(|r| r.outcome == left).count()
+}
+
+/// An ensemble's skip counts, sorted.
+pub(super) fn sorted_skips(runs: &[GridRun]) -> Vec<usize> {
+    let mut s: Vec<usize> = runs.iter().map(|r| r.shape.skips).collect();
+    s.sort_unstable();
+    s
+}
+
+/// `f` of every run of an ensemble, sorted.
+pub(super) fn sorted_by(runs: &[GridRun], f: impl Fn(&GridRun) -> f64) -> Vec<f64> {
+    let mut v: Vec<f64> = runs.iter().map(f).collect();
+    v.sort_by(f64::total_cmp);
+    v
+}
+
+/// The distinct stems, in the order they first appear.
+pub(super) fn distinct(stems: impl Iterator<Item = &'static str>) -> Vec<&'static str> {
+    let mut t: Vec<&'static str> = Vec::new();
+    for stem in stems {
+        if !t.contains(&stem) {
+            t.push(stem);
+        }
+    }
+    t
+}
+
 impl GridCase {
     pub fn glides(&self) -> usize {
-        self.runs.iter().filter(|r| r.glides()).count()
+        glides(&self.runs)
     }
 
     pub fn left(&self) -> usize {
-        let left = Some(Outcome::LeftDomain);
-        self.runs.iter().filter(|r| r.outcome == left).count()
+        left(&self.runs)
     }
 
     fn skips(&self) -> Vec<usize> {
-        let mut s: Vec<usize> = self.runs.iter().map(|r| r.shape.skips).collect();
-        s.sort_unstable();
-        s
+        sorted_skips(&self.runs)
     }
 
     fn sorted(&self, f: impl Fn(&GridRun) -> f64) -> Vec<f64> {
-        let mut v: Vec<f64> = self.runs.iter().map(f).collect();
-        v.sort_by(f64::total_cmp);
-        v
+        sorted_by(&self.runs, f)
     }
 
     fn is_shipped(&self) -> bool {
@@ -123,7 +154,7 @@ const THROWS: [Throw; 3] = [
 ];
 
 /// The lake of `stem`'s runs (m), its −x, −y corner 2 m behind the launch and centred.
-pub(super) fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
+fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
     let size = THROWS
         .iter()
         .find(|t| t.stem == stem)
@@ -133,13 +164,7 @@ pub(super) fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
 
 /// The throws `cases` holds, in order.
 fn throw_stems(quick: bool) -> Vec<&'static str> {
-    let mut t: Vec<&'static str> = Vec::new();
-    for (stem, ..) in cases(quick) {
-        if !t.contains(&stem) {
-            t.push(stem);
-        }
-    }
-    t
+    distinct(cases(quick).into_iter().map(|(stem, ..)| stem))
 }
 
 /// (throw, cell, rest depth) of every case.
@@ -353,13 +378,7 @@ fn by_cell(g: &GridStudy, cells: impl Fn(f64) -> bool) -> Vec<(f64, usize, usize
 
 /// The throws the cases hold, in order.
 fn throws(g: &GridStudy) -> Vec<&'static str> {
-    let mut t: Vec<&'static str> = Vec::new();
-    for c in &g.cases {
-        if !t.contains(&c.stem) {
-            t.push(c.stem);
-        }
-    }
-    t
+    distinct(g.cases.iter().map(|c| c.stem))
 }
 
 /// "a", "a and b", "a, b and c".

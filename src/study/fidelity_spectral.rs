@@ -16,7 +16,8 @@ use super::fidelity::{
     ensemble_offsets, par_map, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE,
 };
 use super::fidelity_grid::{
-    and_list, cm, grid_run, lower_median_f, spread, GridRun, GridStudy, SHIPPED,
+    and_list, cm, distinct, glides, grid_run, left, lower_median_f, sorted_by, sorted_skips,
+    spread, GridRun, GridStudy, SHIPPED,
 };
 use super::table::{md_table, sig, Csv};
 use super::{Ctx, StudyError};
@@ -65,23 +66,11 @@ pub struct NearCase {
 
 impl NearCase {
     pub fn glides(&self) -> usize {
-        self.runs.iter().filter(|r| r.glides()).count()
-    }
-
-    fn skips(&self) -> Vec<usize> {
-        let mut s: Vec<usize> = self.runs.iter().map(|r| r.shape.skips).collect();
-        s.sort_unstable();
-        s
-    }
-
-    fn sorted(&self, f: impl Fn(&GridRun) -> f64) -> Vec<f64> {
-        let mut v: Vec<f64> = self.runs.iter().map(f).collect();
-        v.sort_by(f64::total_cmp);
-        v
+        glides(&self.runs)
     }
 
     fn median_distance(&self) -> Option<f64> {
-        lower_median_f(&self.sorted(|r| r.shape.distance))
+        lower_median_f(&sorted_by(&self.runs, |r| r.shape.distance))
     }
 }
 
@@ -226,13 +215,7 @@ pub fn write_csvs(ctx: &Ctx, s: &SpectralStudy) -> Result<(), StudyError> {
 
 /// The throws the cases hold, in order.
 fn throws(s: &SpectralStudy) -> Vec<&'static str> {
-    let mut t: Vec<&'static str> = Vec::new();
-    for c in &s.cases {
-        if !t.contains(&c.stem) {
-            t.push(c.stem);
-        }
-    }
-    t
+    distinct(s.cases.iter().map(|c| c.stem))
 }
 
 /// Runs that break the rule and runs, summed over the throws, on the cases `pick` selects.
@@ -279,6 +262,18 @@ pub fn lead_words(s: &SpectralStudy) -> String {
     )
 }
 
+/// One table row: an ensemble's skips, distances, glides, longest contacts and runs that left.
+fn row(label: String, runs: &[GridRun], lake_note: &str) -> Vec<String> {
+    vec![
+        label,
+        spread(&sorted_skips(runs), |k: usize| k.to_string()),
+        spread(&sorted_by(runs, |r| r.shape.distance), |x| sig(x, 3)),
+        format!("{} of {}", glides(runs), runs.len()),
+        spread(&sorted_by(runs, |r| r.longest_contact), |x| sig(x, 2)),
+        format!("{} of {}{lake_note}", left(runs), runs.len()),
+    ]
+}
+
 fn case_rows(s: &SpectralStudy, g: &GridStudy) -> Vec<Vec<String>> {
     let mut rows = Vec::new();
     for stem in throws(s) {
@@ -288,37 +283,14 @@ fn case_rows(s: &SpectralStudy, g: &GridStudy) -> Vec<Vec<String>> {
             .iter()
             .find(|c| c.stem == stem && (c.cell, c.depth) == SHIPPED)
         {
-            let mut skips: Vec<usize> = c.runs.iter().map(|r| r.shape.skips).collect();
-            skips.sort_unstable();
-            let mut d: Vec<f64> = c.runs.iter().map(|r| r.shape.distance).collect();
-            d.sort_by(f64::total_cmp);
-            let mut l: Vec<f64> = c.runs.iter().map(|r| r.longest_contact).collect();
-            l.sort_by(f64::total_cmp);
-            rows.push(vec![
+            rows.push(row(
                 format!("{stem}, columns {} cm (shipped, §9)", cm(c.cell)),
-                spread(&skips, |k: usize| k.to_string()),
-                spread(&d, |x| sig(x, 3)),
-                format!("{} of {}", c.glides(), c.runs.len()),
-                spread(&l, |x| sig(x, 2)),
-                format!("{} of {} (§9's lake)", c.left(), c.runs.len()),
-            ]);
+                &c.runs,
+                " (§9's lake)",
+            ));
         }
         for c in s.cases.iter().filter(|c| c.stem == stem) {
-            rows.push(vec![
-                format!("{stem}, {}", c.near.label()),
-                spread(&c.skips(), |k: usize| k.to_string()),
-                spread(&c.sorted(|r| r.shape.distance), |x| sig(x, 3)),
-                format!("{} of {}", c.glides(), c.runs.len()),
-                spread(&c.sorted(|r| r.longest_contact), |x| sig(x, 2)),
-                format!(
-                    "{} of {}",
-                    c.runs
-                        .iter()
-                        .filter(|r| r.outcome == Some(Outcome::LeftDomain))
-                        .count(),
-                    c.runs.len()
-                ),
-            ]);
+            rows.push(row(format!("{stem}, {}", c.near.label()), &c.runs, ""));
         }
     }
     rows

@@ -17,6 +17,28 @@ fn cfg(cells: usize, cell: f64, sponge: bool) -> SpectralConfig {
     }
 }
 
+/// A patch centred on the origin after a push of `impulse` N·s over the square of half-side
+/// `half` about it and `steps` steps of 5 ms.
+fn pushed(c: SpectralConfig, half: f64, impulse: f64, steps: usize) -> SpectralField {
+    let mut f = SpectralField::new(c, [0.0, 0.0]).unwrap();
+    f.deposit(0.0, 0.0, half, impulse);
+    for _ in 0..steps {
+        f.advance(0.005);
+    }
+    f
+}
+
+/// Sets η = amp cos(k x) (x from the patch's −x edge) and φ = 0 on every cell.
+fn standing_wave(f: &mut SpectralField, k: f64, amp: f64) {
+    let (n, l) = (f.cells(), f.cell());
+    for j in 0..n {
+        for i in 0..n {
+            let x = (i as f64 + 0.5) * l;
+            f.set_cell(i, j, amp * (k * x).cos(), 0.0);
+        }
+    }
+}
+
 /// ω of the capillary–gravity relation (Lamb §267), written out independently of `mode`.
 fn omega(k: f64, c: &SpectralConfig) -> f64 {
     ((c.gravity * k + c.surface_tension * k.powi(3) / c.density) * (k * c.depth).tanh()).sqrt()
@@ -31,12 +53,7 @@ fn a_standing_wave_oscillates_at_the_dispersion_relations_frequency_for_any_step
     let amp = 1e-3;
     for (dt, steps) in [(0.005, 40usize), (0.02, 10), (0.2, 1)] {
         let mut f = SpectralField::new(c, [0.16, 0.16]).unwrap();
-        for j in 0..32 {
-            for i in 0..32 {
-                let x = (i as f64 + 0.5) * 0.01;
-                f.set_cell(i, j, amp * (k * x).cos(), 0.0);
-            }
-        }
+        standing_wave(&mut f, k, amp);
         for _ in 0..steps {
             f.advance(dt);
         }
@@ -62,12 +79,7 @@ fn short_waves_are_deep_water_waves_and_long_ones_shallow() {
         c.surface_tension = 0.0;
         let k = 2.0 * PI / (cells as f64 * cell);
         let mut f = SpectralField::new(c, [0.0, 0.0]).unwrap();
-        for j in 0..cells {
-            for i in 0..cells {
-                let x = (i as f64 + 0.5) * cell;
-                f.set_cell(i, j, 1e-3 * (k * x).cos(), 0.0);
-            }
-        }
+        standing_wave(&mut f, k, 1e-3);
         // A quarter period: η at the crest passes through zero at t = π/(2ω).
         let (mut t, dt) = (0.0, 1e-4);
         let mut prev = f.eta(0, 0);
@@ -122,10 +134,7 @@ fn a_pressure_held_over_a_step_is_integrated_exactly() {
 
 #[test]
 fn a_push_depresses_the_water_under_it_and_keeps_its_volume() {
-    let c = cfg(64, 0.01, false);
-    let mut f = SpectralField::new(c, [0.0, 0.0]).unwrap();
-    f.deposit(0.0, 0.0, 0.03, 0.02);
-    f.advance(0.005);
+    let mut f = pushed(cfg(64, 0.01, false), 0.03, 0.02, 1);
     assert!(
         f.height(0.0, 0.0) < 0.0,
         "under the push: {}",
@@ -144,13 +153,8 @@ fn a_push_depresses_the_water_under_it_and_keeps_its_volume() {
 
 #[test]
 fn a_centred_push_spreads_a_symmetric_ring() {
-    let c = cfg(64, 0.01, true);
-    let mut f = SpectralField::new(c, [0.0, 0.0]).unwrap();
     // The patch's centre is a cell corner: a square footprint about it is symmetric.
-    f.deposit(0.0, 0.0, 0.025, 0.02);
-    for _ in 0..40 {
-        f.advance(0.005);
-    }
+    let f = pushed(cfg(64, 0.01, true), 0.025, 0.02, 40);
     let scale = f.max_abs_eta();
     for j in 0..64 {
         for i in 0..64 {
@@ -223,12 +227,7 @@ fn a_footprint_off_the_patch_is_counted_as_missed() {
 
 #[test]
 fn bounds_cover_the_bilinear_surface() {
-    let c = cfg(32, 0.01, false);
-    let mut f = SpectralField::new(c, [0.0, 0.0]).unwrap();
-    f.deposit(0.0, 0.0, 0.02, 0.02);
-    for _ in 0..10 {
-        f.advance(0.005);
-    }
+    let f = pushed(cfg(32, 0.01, false), 0.02, 0.02, 10);
     let (lo, hi) = ([-0.05, -0.04], [0.05, 0.06]);
     let (m, slope) = f.bounds_over(lo, hi);
     let d = 1e-4;
