@@ -1113,7 +1113,7 @@ fn hovercraft_rows(f: &Fidelity) -> Vec<Vec<String>> {
         fidelity_grid::lead_words(&f.grid),
     ]);
     rows.push(vec![
-        "…and on a deep-water near field that converges (§10)".into(),
+        "…and on a deep-water near field (§10)".into(),
         "—".into(),
         fidelity_spectral::lead_words(&f.spectral),
     ]);

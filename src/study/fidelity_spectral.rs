@@ -358,6 +358,13 @@ fn findings(s: &SpectralStudy) -> String {
              which in a deep lake is the nonlinear splash-up of the impact (Wagner's wetted \
              length), outside this linear model: a candidate for the next step, not built.\n",
         );
+    } else if sg == sr && sr > 0 {
+        w.push_str(&format!(
+            "\n- Every run on every patch ends in a planing glide, as on flat water; the median \
+             distances stay within {:.1} % of flat water's but move with the patch (the table), \
+             so the distance is not converged on the finest one.\n",
+            100.0 * worst
+        ));
     } else {
         w.push('\n');
     }
