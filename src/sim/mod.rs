@@ -547,6 +547,11 @@ impl Simulation {
     pub fn water(&self) -> Option<&WaterGrid> {
         self.water.as_ref()
     }
+    /// The spectral near field the stone rides on (`water.near_field: Spectral` with wavy
+    /// contact), absent otherwise.
+    pub fn near_field(&self) -> Option<&SpectralField> {
+        self.near.as_ref()
+    }
     /// (accepted steps, force evaluations).
     pub fn cost(&self) -> (u64, u64) {
         (self.motion.steps, self.motion.force_evals)

@@ -149,6 +149,15 @@ const MODEL: &[(&str, &str, &str)] = &[
         "the paper (future work); Hewitt et al. 2011; docs/studies/fidelity",
     ),
     (
+        "Deep-water near field",
+        "Optional (water.near_field: Spectral, the Water panel): the stone rides on a square patch \
+         of deep water that follows it (drawn with a pale outline), linear potential flow with the \
+         capillary–gravity dispersion ω² = (gk + σk³/ρ) tanh(kH), each Fourier mode stepped \
+         exactly. Deep water gives way about kH times less than the columns, so the throws come \
+         close to flat water, planing glides included.",
+        "Lamb 1932 §§229, 267, 348; docs/studies/fidelity §10",
+    ),
+    (
         "Buoyancy",
         "Hydrostatic pressure ρ g d on each loaded face, d the depth of its wetted centroid: \
          Archimedes' force, exact on planar faces.",
