@@ -499,25 +499,30 @@ fn mode(k: f64, dt: f64, c: &SpectralConfig, area: f64) -> Mode {
     }
 }
 
-/// Moves a row-major n × n field by (sx, sy) cells of its origin: the new cell (i, j) is the old
-/// (i + sx, j + sy), rest (0) where that lies outside.
+/// Moves `field` (n × n, row-major) so that cell (i, j) takes the value of cell (i + sx, j + sy),
+/// cells from outside the patch entering at rest (0). In place: the source of cell k is k + d with
+/// d = sy·n + sx, so walking up when d > 0 (down when d < 0) reads every source before it is
+/// overwritten.
 fn shift(field: &mut [f64], n: usize, sx: i64, sy: i64) {
     let ni = n as i64;
     if sx.abs() >= ni || sy.abs() >= ni {
         field.iter_mut().for_each(|v| *v = 0.0);
         return;
     }
-    let old = field.to_vec();
-    for j in 0..ni {
-        let oj = j + sy;
-        for i in 0..ni {
-            let oi = i + sx;
-            field[(j * ni + i) as usize] = if (0..ni).contains(&oi) && (0..ni).contains(&oj) {
-                old[(oj * ni + oi) as usize]
-            } else {
-                0.0
-            };
-        }
+    let d = sy * ni + sx;
+    let mut set = |k: i64| {
+        let (j, i) = (k / ni, k % ni);
+        let (oi, oj) = (i + sx, j + sy);
+        field[k as usize] = if (0..ni).contains(&oi) && (0..ni).contains(&oj) {
+            field[(k + d) as usize]
+        } else {
+            0.0
+        };
+    };
+    if d > 0 {
+        (0..ni * ni).for_each(&mut set);
+    } else if d < 0 {
+        (0..ni * ni).rev().for_each(&mut set);
     }
 }
 

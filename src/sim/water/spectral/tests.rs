@@ -260,3 +260,32 @@ fn the_same_pushes_give_the_same_bits() {
     };
     assert_eq!(run(), run());
 }
+
+/// The in-place shift gives what a copy would: cell (i, j) takes the old (i + sx, j + sy), rest
+/// outside, for shifts in every direction, none, and past the patch.
+#[test]
+fn shifting_in_place_matches_a_copy() {
+    let n = 8usize;
+    let old: Vec<f64> = (0..n * n).map(|k| 1.0 + k as f64).collect();
+    for sy in -9i64..=9 {
+        for sx in -9i64..=9 {
+            let mut f = old.clone();
+            super::shift(&mut f, n, sx, sy);
+            for j in 0..n as i64 {
+                for i in 0..n as i64 {
+                    let (oi, oj) = (i + sx, j + sy);
+                    let want = if (0..n as i64).contains(&oi) && (0..n as i64).contains(&oj) {
+                        old[(oj * n as i64 + oi) as usize]
+                    } else {
+                        0.0
+                    };
+                    assert_eq!(
+                        f[(j * n as i64 + i) as usize],
+                        want,
+                        "({sx}, {sy}) at ({i}, {j})"
+                    );
+                }
+            }
+        }
+    }
+}
