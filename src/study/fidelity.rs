@@ -25,6 +25,7 @@ use super::fidelity_air::{self, AirStudy};
 use super::fidelity_grid::{self, GridStudy};
 use super::fidelity_limit::{self, LimitStudy, Quoted};
 use super::fidelity_spectral::{self, SpectralStudy};
+use super::fidelity_tick::{self, TickStudy};
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
 use super::style::law_name;
@@ -685,6 +686,7 @@ pub struct Fidelity {
     pub limit: LimitStudy,
     pub grid: GridStudy,
     pub spectral: SpectralStudy,
+    pub tick: TickStudy,
 }
 
 /// Runs every part of the study.
@@ -717,6 +719,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let limit = fidelity_limit::compute(ctx, &spin, &air.sweep_off)?;
     let grid = fidelity_grid::compute(ctx)?;
     let spectral = fidelity_spectral::compute(ctx)?;
+    let tick = fidelity_tick::compute(ctx)?;
     Ok(Fidelity {
         bounces,
         paper,
@@ -735,6 +738,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         limit,
         grid,
         spectral,
+        tick,
     })
 }
 
@@ -953,7 +957,8 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     fidelity_air::write_csvs(ctx, &f.air)?;
     fidelity_limit::write_csvs(ctx, &f.limit)?;
     fidelity_grid::write_csvs(ctx, &f.grid)?;
-    fidelity_spectral::write_csvs(ctx, &f.spectral)
+    fidelity_spectral::write_csvs(ctx, &f.spectral)?;
+    fidelity_tick::write_csvs(ctx, &f.tick)
 }
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
@@ -1117,6 +1122,11 @@ fn hovercraft_rows(f: &Fidelity) -> Vec<Vec<String>> {
         "—".into(),
         fidelity_spectral::lead_words(&f.spectral),
     ]);
+    rows.push(vec![
+        "…and as the stone–water coupling tick shrinks (§11)".into(),
+        "—".into(),
+        fidelity_tick::lead_words(&f.tick),
+    ]);
     rows
 }
 
@@ -1271,6 +1281,7 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&fidelity_limit::section(&f.limit, &quoted(f)));
     s.push_str(&fidelity_grid::section(&f.grid));
     s.push_str(&fidelity_spectral::section(&f.spectral, &f.grid));
+    s.push_str(&fidelity_tick::section(&f.tick, &f.spectral));
     s
 }
 

@@ -154,7 +154,7 @@ const THROWS: [Throw; 3] = [
 ];
 
 /// The lake of `stem`'s runs (m), its −x, −y corner 2 m behind the launch and centred.
-fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
+pub(super) fn lake(stem: &str) -> ([f64; 2], [f64; 2]) {
     let size = THROWS
         .iter()
         .find(|t| t.stem == stem)
@@ -218,6 +218,34 @@ pub(super) fn grid_run(p: &Preset, dz: f64) -> Result<GridRun, StudyError> {
     })
 }
 
+/// Every preset of `throws` from each launch-height offset of `offsets`, on rayon's pool: the
+/// runs of each preset (its ensemble), in the order of `throws`.
+pub(super) fn ensembles(
+    throws: Vec<Preset>,
+    offsets: &[f64],
+) -> Result<Vec<Vec<GridRun>>, StudyError> {
+    let n = throws.len();
+    let jobs: Vec<(usize, Preset, f64)> = throws
+        .into_iter()
+        .enumerate()
+        .flat_map(|(i, p)| offsets.iter().map(move |&dz| (i, p.clone(), dz)))
+        .collect();
+    let runs = par_map(jobs, |(i, mut p, dz)| {
+        p.launch.position[2] += dz;
+        grid_run(&p, dz).map(|run| (i, run))
+    })?;
+    let mut out = vec![Vec::new(); n];
+    for (i, run) in runs {
+        out[i].push(run);
+    }
+    Ok(out)
+}
+
+/// The lower median of an ensemble's distances (m).
+pub(super) fn median_distance(runs: &[GridRun]) -> Option<f64> {
+    lower_median_f(&sorted_by(runs, |r| r.shape.distance))
+}
+
 pub fn compute(ctx: &Ctx) -> Result<GridStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the near field under refinement");
@@ -229,35 +257,25 @@ pub fn compute(ctx: &Ctx) -> Result<GridStudy, StudyError> {
         p.water.origin = Some(origin);
         presets.push((stem, p));
     }
-    let offsets = ensemble_offsets(q);
-    let jobs: Vec<(usize, &Preset, f64, f64, f64)> = cases(q)
-        .into_iter()
-        .enumerate()
-        .filter_map(|(i, (stem, cell, depth))| {
-            let (_, p) = presets.iter().find(|(s, _)| *s == stem)?;
-            Some((i, p, cell, depth))
-        })
-        .flat_map(|(i, p, cell, depth)| offsets.iter().map(move |&dz| (i, p, cell, depth, dz)))
-        .collect();
-    let runs = par_map(jobs, |(i, p, cell, depth, dz)| {
+    let mut throws = Vec::new();
+    for (stem, cell, depth) in cases(q) {
+        let (_, p) = presets
+            .iter()
+            .find(|(s, _)| *s == stem)
+            .ok_or_else(|| StudyError::Failed(format!("no preset for `{stem}`")))?;
         let mut r = p.clone();
         r.water.cell = cell;
         r.water.depth = depth;
-        r.launch.position[2] += dz;
-        grid_run(&r, dz).map(|run| (i, run))
-    })?;
+        throws.push(r);
+    }
+    let mut runs = ensembles(throws, &ensemble_offsets(q))?.into_iter();
     let cases = cases(q)
         .into_iter()
-        .enumerate()
-        .map(|(i, (stem, cell, depth))| GridCase {
+        .map(|(stem, cell, depth)| GridCase {
             stem,
             cell,
             depth,
-            runs: runs
-                .iter()
-                .filter(|(j, _)| *j == i)
-                .map(|(_, r)| *r)
-                .collect(),
+            runs: runs.next().unwrap_or_default(),
         })
         .collect();
     let (_, p) = presets

@@ -12,11 +12,9 @@
 use crate::sim::params::{NearField, Preset};
 use crate::sim::Outcome;
 
-use super::fidelity::{
-    ensemble_offsets, par_map, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE,
-};
+use super::fidelity::{ensemble_offsets, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE};
 use super::fidelity_grid::{
-    and_list, cm, distinct, glides, grid_run, left, lower_median_f, sorted_by, sorted_skips,
+    and_list, cm, distinct, ensembles, glides, left, median_distance, sorted_by, sorted_skips,
     spread, GridRun, GridStudy, SHIPPED,
 };
 use super::table::{md_table, sig, Csv};
@@ -70,7 +68,7 @@ impl NearCase {
     }
 
     fn median_distance(&self) -> Option<f64> {
-        lower_median_f(&sorted_by(&self.runs, |r| r.shape.distance))
+        median_distance(&self.runs)
     }
 }
 
@@ -118,7 +116,7 @@ fn lake(stem: &str) -> [f64; 2] {
 }
 
 /// The shipped throw `stem` on `near`.
-fn preset(stem: &str, near: Near, quick: bool) -> Result<Preset, StudyError> {
+pub(super) fn preset(stem: &str, near: Near, quick: bool) -> Result<Preset, StudyError> {
     let mut p = shipped_for(stem, quick)?;
     let size = lake(stem);
     p.water.size = size;
@@ -140,27 +138,17 @@ fn preset(stem: &str, near: Near, quick: bool) -> Result<Preset, StudyError> {
 pub fn compute(ctx: &Ctx) -> Result<SpectralStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("a deep-water near field");
-    let offsets = ensemble_offsets(q);
-    let mut jobs = Vec::new();
-    for (i, (stem, near)) in cases(q).into_iter().enumerate() {
-        let p = preset(stem, near, q)?;
-        jobs.extend(offsets.iter().map(|&dz| (i, p.clone(), dz)));
-    }
-    let runs = par_map(jobs, |(i, mut p, dz)| {
-        p.launch.position[2] += dz;
-        grid_run(&p, dz).map(|run| (i, run))
-    })?;
+    let throws = cases(q)
+        .into_iter()
+        .map(|(stem, near)| preset(stem, near, q))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut runs = ensembles(throws, &ensemble_offsets(q))?.into_iter();
     let cases = cases(q)
         .into_iter()
-        .enumerate()
-        .map(|(i, (stem, near))| NearCase {
+        .map(|(stem, near)| NearCase {
             stem,
             near,
-            runs: runs
-                .iter()
-                .filter(|(j, _)| *j == i)
-                .map(|(_, r)| *r)
-                .collect(),
+            runs: runs.next().unwrap_or_default(),
         })
         .collect();
     Ok(SpectralStudy { cases })

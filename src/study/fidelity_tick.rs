@@ -1,0 +1,524 @@
+//! The fidelity study's §11, the coupling tick (issue 11, criterion 3: no hovercraft). §9 and §10
+//! refined the near field in space at the shipped tick of 5 ms. In time the stone and the water
+//! are coupled once a tick (`Simulation::finish_tick`): within a tick the stone reads the surface
+//! the last tick left, and its face impulses move the water only at the tick's end (the columns
+//! then take whole steps of their own Courant clock, the spectral patch one exact step of the
+//! tick). So the stone runs up to a tick ahead of its own wave, and a stone of diameter D at speed
+//! U crosses its own length in D/U (8 ms for the default's 10 cm at 12 m/s), not long against
+//! 5 ms. This section throws the shipped throws on the shipped 2 cm columns (§9's lakes) and on
+//! the 1 cm spectral patch (§10's) at ticks from 5 ms down to 0.3125 ms, from the §2 ensemble's
+//! launch heights, and reads the distance and the "no hovercraft" rule off every run. Compute, then
+//! results, then the report.
+
+use crate::sim::params::Preset;
+use crate::sim::Outcome;
+
+use super::fidelity::{ensemble_offsets, shipped_for, QUICK_CELL};
+use super::fidelity_grid::{
+    and_list, distinct, ensembles, glides, left, median_distance, sorted_by, sorted_skips, spread,
+    GridRun,
+};
+use super::fidelity_spectral::{Near, SpectralStudy};
+use super::table::{md_table, sig, Csv};
+use super::{Ctx, StudyError};
+
+/// The near field a case's stone rides on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Surface {
+    /// The shipped columns (the preset's cell; 5 cm when quick) on §9's lake.
+    Columns { cell: f64 },
+    /// The spectral patch: cells along a side and the cell (m), on §10's lake.
+    Spectral { cells: u32, cell: f64 },
+}
+
+impl Surface {
+    fn label(&self) -> String {
+        match self {
+            Surface::Columns { cell } => format!("columns {} cm", sig(100.0 * cell, 2)),
+            Surface::Spectral { cells, cell } => format!(
+                "spectral {} cm, {} m",
+                sig(100.0 * cell, 2),
+                sig(*cells as f64 * cell, 3)
+            ),
+        }
+    }
+
+    fn kind(&self) -> &'static str {
+        match self {
+            Surface::Columns { .. } => "columns",
+            Surface::Spectral { .. } => "spectral",
+        }
+    }
+}
+
+/// The ensemble of one shipped throw on one surface at one tick.
+#[derive(Debug, Clone)]
+pub struct TickCase {
+    pub stem: &'static str,
+    pub surface: Surface,
+    /// The coupling tick (s).
+    pub dt: f64,
+    pub runs: Vec<GridRun>,
+}
+
+impl TickCase {
+    pub fn glides(&self) -> usize {
+        glides(&self.runs)
+    }
+
+    fn median_distance(&self) -> Option<f64> {
+        median_distance(&self.runs)
+    }
+}
+
+/// What §11 measured.
+#[derive(Debug, Clone)]
+pub struct TickStudy {
+    pub cases: Vec<TickCase>,
+}
+
+/// The ticks (s): the shipped 5 ms, then halved four times.
+const TICKS: [f64; 5] = [0.005, 0.0025, 0.00125, 0.000625, 0.0003125];
+
+/// Within this fraction of flat water's median distance a spectral series counts as close to flat
+/// (as in §10).
+const NEAR_FLAT: f64 = 0.1;
+
+/// Two successive ticks whose median distances differ by less than this fraction count as
+/// converged in the tick.
+const CONVERGED: f64 = 0.05;
+
+/// How much longer than §9's the columns' lakes are (m).
+const EXTRA_LENGTH: f64 = 20.0;
+
+/// The spectral patch of the full study: §10's middle one (1 cm cells, 1.28 m).
+const PATCH: (u32, f64) = (128, 0.01);
+/// The quick study's patch: §10's quick one (2 cm cells, 1.28 m).
+const QUICK_PATCH: (u32, f64) = (64, 0.02);
+
+/// (throw, surface, tick) of every case.
+fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
+    let stems: &[&'static str] = if quick {
+        &["default"]
+    } else {
+        &["default", "magic_angle", "record_throw"]
+    };
+    let ticks: &[f64] = if quick { &[TICKS[0], TICKS[2]] } else { &TICKS };
+    let (cells, cell) = if quick { QUICK_PATCH } else { PATCH };
+    let column = if quick { QUICK_CELL } else { 0.02 };
+    let surfaces = [
+        Surface::Columns { cell: column },
+        Surface::Spectral { cells, cell },
+    ];
+    let mut out = Vec::new();
+    for &stem in stems {
+        for surface in surfaces {
+            out.extend(ticks.iter().map(|&dt| (stem, surface, dt)));
+        }
+    }
+    out
+}
+
+/// The shipped throw `stem` on `surface` at tick `dt`: at 5 ms §10's spectral run, and §9's
+/// shipped-column run on a lake [`EXTRA_LENGTH`] longer.
+fn preset(stem: &str, surface: Surface, dt: f64, quick: bool) -> Result<Preset, StudyError> {
+    let mut p = match surface {
+        Surface::Columns { .. } => {
+            let mut p = shipped_for(stem, quick)?;
+            let (size, origin) = super::fidelity_grid::lake(stem);
+            // §9's lake, longer: at finer ticks the record throw reached §9's far end.
+            p.water.size = [size[0] + EXTRA_LENGTH, size[1]];
+            p.water.origin = Some(origin);
+            p
+        }
+        Surface::Spectral { cells, cell } => {
+            super::fidelity_spectral::preset(stem, Near::Spectral { cells, cell }, quick)?
+        }
+    };
+    p.physics.dt = dt;
+    Ok(p)
+}
+
+pub fn compute(ctx: &Ctx) -> Result<TickStudy, StudyError> {
+    let q = ctx.quick;
+    ctx.progress("the coupling tick");
+    let throws = cases(q)
+        .into_iter()
+        .map(|(stem, surface, dt)| preset(stem, surface, dt, q))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut runs = ensembles(throws, &ensemble_offsets(q))?.into_iter();
+    let cases = cases(q)
+        .into_iter()
+        .map(|(stem, surface, dt)| TickCase {
+            stem,
+            surface,
+            dt,
+            runs: runs.next().unwrap_or_default(),
+        })
+        .collect();
+    Ok(TickStudy { cases })
+}
+
+pub fn write_csvs(ctx: &Ctx, s: &TickStudy) -> Result<(), StudyError> {
+    let mut c = Csv::new(&[
+        "throw",
+        "surface",
+        "cell_m",
+        "tick_s",
+        "launch_dz_m",
+        "outcome",
+        "skips",
+        "distance_m",
+        "final_share",
+        "longest_earlier_s",
+        "longest_contact_s",
+        "glide",
+    ]);
+    for case in &s.cases {
+        let cell = match case.surface {
+            Surface::Columns { cell } | Surface::Spectral { cell, .. } => cell,
+        };
+        for r in &case.runs {
+            c.push(vec![
+                case.stem.into(),
+                case.surface.kind().into(),
+                cell.into(),
+                case.dt.into(),
+                r.dz.into(),
+                r.outcome.map_or("none", Outcome::as_str).into(),
+                r.shape.skips.into(),
+                r.shape.distance.into(),
+                r.shape.final_share.into(),
+                r.shape.longest_earlier_contact.into(),
+                r.longest_contact.into(),
+                r.glides().into(),
+            ]);
+        }
+    }
+    ctx.write_csv("coupling_tick.csv", &c)
+}
+
+/// (throw, surface) pairs in the order the cases hold them.
+fn series(s: &TickStudy) -> Vec<(&'static str, Surface)> {
+    let mut v: Vec<(&'static str, Surface)> = Vec::new();
+    for c in &s.cases {
+        if !v.contains(&(c.stem, c.surface)) {
+            v.push((c.stem, c.surface));
+        }
+    }
+    v
+}
+
+/// The cases of one series, by tick from the coarsest.
+fn of<'a>(s: &'a TickStudy, stem: &str, surface: Surface) -> Vec<&'a TickCase> {
+    let mut v: Vec<&TickCase> = s
+        .cases
+        .iter()
+        .filter(|c| c.stem == stem && c.surface == surface)
+        .collect();
+    v.sort_by(|a, b| b.dt.total_cmp(&a.dt));
+    v
+}
+
+/// A tick in milliseconds, as the tables show it.
+fn ms(dt: f64) -> String {
+    sig(1e3 * dt, 3)
+}
+
+/// One series' median distances from the coarsest tick to the finest, and whether its two finest
+/// ticks agree within [`CONVERGED`].
+fn trend(cases: &[&TickCase]) -> (Vec<f64>, Option<bool>) {
+    let d: Vec<f64> = cases.iter().filter_map(|c| c.median_distance()).collect();
+    let converged = match d.as_slice() {
+        [.., a, b] => Some((b - a).abs() <= CONVERGED * a.abs()),
+        _ => None,
+    };
+    (d, converged)
+}
+
+/// One line for the lead table: the rule at the finest tick, per surface, and whether the
+/// distances settled.
+pub fn lead_words(s: &TickStudy) -> String {
+    let finest = s.cases.iter().map(|c| c.dt).fold(f64::INFINITY, f64::min);
+    let mut parts = Vec::new();
+    for kind in ["columns", "spectral"] {
+        let (g, n) = s
+            .cases
+            .iter()
+            .filter(|c| c.dt == finest && c.surface.kind() == kind)
+            .fold((0, 0), |(g, n), c| (g + c.glides(), n + c.runs.len()));
+        if n > 0 {
+            parts.push(format!("{kind} {g} of {n}"));
+        }
+    }
+    let ok = s
+        .cases
+        .iter()
+        .filter(|c| c.dt == finest)
+        .all(|c| c.glides() == 0);
+    let settled = series(s)
+        .iter()
+        .filter(|(stem, surface)| trend(&of(s, stem, *surface)).1 == Some(true))
+        .count();
+    format!(
+        "runs that break the rule at a {} ms tick: {} ({}); distances settled (two finest ticks \
+         within {:.0} %) in {settled} of {} series",
+        ms(finest),
+        parts.join(", "),
+        if ok { "yes" } else { "**no**" },
+        100.0 * CONVERGED,
+        series(s).len()
+    )
+}
+
+fn case_rows(s: &TickStudy) -> Vec<Vec<String>> {
+    s.cases
+        .iter()
+        .map(|c| {
+            vec![
+                format!("{}, {}", c.stem, c.surface.label()),
+                ms(c.dt),
+                spread(&sorted_skips(&c.runs), |k: usize| k.to_string()),
+                spread(&sorted_by(&c.runs, |r| r.shape.distance), |x| sig(x, 3)),
+                format!("{} of {}", c.glides(), c.runs.len()),
+                spread(&sorted_by(&c.runs, |r| r.longest_contact), |x| sig(x, 2)),
+                format!("{} of {}", left(&c.runs), c.runs.len()),
+            ]
+        })
+        .collect()
+}
+
+/// Flat water's median distance for `stem` in §10, if it ran.
+fn flat_distance(spectral: &SpectralStudy, stem: &str) -> Option<f64> {
+    spectral
+        .cases
+        .iter()
+        .find(|c| c.stem == stem && c.near == Near::Flat)
+        .and_then(|c| median_distance(&c.runs))
+}
+
+/// What the table says, in words.
+fn findings(s: &TickStudy, spectral: &SpectralStudy) -> String {
+    let mut w = String::from("\n");
+    for (stem, surface) in series(s) {
+        let cases = of(s, stem, surface);
+        let (d, converged) = trend(&cases);
+        let (first, last) = match (cases.first(), cases.last()) {
+            (Some(a), Some(b)) => (a, b),
+            _ => continue,
+        };
+        w.push_str(&format!(
+            "- {stem} on {}: median distance {} m from {} ms to {} ms; runs that break the rule {} \
+             of {} at {} ms, {} of {} at {} ms; {}.",
+            surface.label(),
+            d.iter().map(|x| sig(*x, 3)).collect::<Vec<_>>().join(" → "),
+            ms(first.dt),
+            ms(last.dt),
+            first.glides(),
+            first.runs.len(),
+            ms(first.dt),
+            last.glides(),
+            last.runs.len(),
+            ms(last.dt),
+            match converged {
+                Some(true) => format!(
+                    "the two finest ticks agree within {:.0} %",
+                    100.0 * CONVERGED
+                ),
+                Some(false) => "still moving at the finest tick".into(),
+                None => "one tick only".into(),
+            }
+        ));
+        if let (Surface::Spectral { .. }, Some(flat), Some(&fine)) =
+            (surface, flat_distance(spectral, stem), d.last())
+        {
+            w.push_str(&format!(
+                " Flat water (§10): {} m, so the finest tick is {:.0} % off it.",
+                sig(flat, 3),
+                100.0 * (fine - flat).abs() / flat
+            ));
+        }
+        w.push('\n');
+    }
+    w.push_str(&verdicts(s));
+    w.push_str(&flat_gaps(s, spectral));
+    w
+}
+
+/// The series whose verdict on the rule differs between the coarsest tick and the finest.
+fn verdicts(s: &TickStudy) -> String {
+    let changed: Vec<String> = series(s)
+        .into_iter()
+        .filter_map(|(stem, surface)| {
+            let cases = of(s, stem, surface);
+            let (a, b) = (cases.first()?, cases.last()?);
+            (a.glides() != b.glides()).then(|| {
+                format!(
+                    "{stem} on {} ({} of {} at {} ms, {} of {} at {} ms)",
+                    surface.label(),
+                    a.glides(),
+                    a.runs.len(),
+                    ms(a.dt),
+                    b.glides(),
+                    b.runs.len(),
+                    ms(b.dt)
+                )
+            })
+        })
+        .collect();
+    if changed.is_empty() {
+        return "- The verdict on the rule is the same at every tick in every series.\n".into();
+    }
+    format!(
+        "- The verdict on the rule changes with the tick: {}. What the coarse tick shows there is \
+         the coupling's lag, not the model's answer.\n",
+        changed.join("; ")
+    )
+}
+
+/// The spectral series whose finest-tick distance is more than [`NEAR_FLAT`] from flat water's
+/// while the shipped tick's was within it: §10's closeness to flat water that was the tick's.
+fn flat_gaps(s: &TickStudy, spectral: &SpectralStudy) -> String {
+    let gap = |d: f64, flat: f64| (d - flat).abs() / flat;
+    let mut out = String::new();
+    for (stem, surface) in series(s) {
+        if !matches!(surface, Surface::Spectral { .. }) {
+            continue;
+        }
+        let cases = of(s, stem, surface);
+        let (d, _) = trend(&cases);
+        if let (Some(&coarse), Some(&fine), Some(flat), Some(finest)) = (
+            d.first(),
+            d.last(),
+            flat_distance(spectral, stem),
+            cases.last(),
+        ) {
+            if gap(fine, flat) > NEAR_FLAT && gap(coarse, flat) <= 2.0 * NEAR_FLAT {
+                out.push_str(&format!(
+                    "- {stem}: on the spectral patch at {} ms it went {} m against flat water's {} \
+                     m (§10); at the finest tick {} m. The deep-water near field shortens this \
+                     throw by {:.0} % once the stone no longer runs ahead of its own wave; at that \
+                     tick {} of {} runs still break the rule.\n",
+                    ms(s.cases.iter().map(|c| c.dt).fold(0.0, f64::max)),
+                    sig(coarse, 3),
+                    sig(flat, 3),
+                    sig(fine, 3),
+                    100.0 * gap(fine, flat),
+                    finest.glides(),
+                    finest.runs.len()
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// §11 of the report.
+pub fn section(s: &TickStudy, spectral: &SpectralStudy) -> String {
+    let throws = distinct(s.cases.iter().map(|c| c.stem));
+    let mut out = format!(
+        "\n## 11. The coupling tick\n\nThe stone and the water are coupled once a tick: within a \
+         tick the stone reads the surface the last tick left, and its impulses move the water at \
+         the tick's end, so the stone runs up to a tick ahead of its own wave (the default crosses \
+         its own 10 cm in 8 ms). §9 and §10 ran at the shipped 5 ms. Here the {} throw{} on the \
+         shipped columns (§9's lakes, {} m longer) and on the spectral patch (§10's lakes) at \
+         ticks from {} ms down to {} ms, from §2's launch heights; at 5 ms the spectral runs are \
+         §10's. The rule as in §9.\n\n",
+        and_list(&throws),
+        if throws.len() > 1 { "s" } else { "" },
+        EXTRA_LENGTH,
+        ms(s.cases.iter().map(|c| c.dt).fold(0.0, f64::max)),
+        ms(s.cases.iter().map(|c| c.dt).fold(f64::INFINITY, f64::min)),
+    );
+    out.push_str(&md_table(
+        &[
+            "throw, surface",
+            "tick (ms)",
+            "skips, median (range)",
+            "distance (m)",
+            "runs that break the rule",
+            "longest contact (s)",
+            "left the lake",
+        ],
+        &case_rows(s),
+    ));
+    out.push_str(&findings(s, spectral));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::metrics::ThrowShape;
+
+    fn run(distance: f64, final_share: f64) -> GridRun {
+        GridRun {
+            dz: 0.0,
+            shape: ThrowShape {
+                skips: 4,
+                distance,
+                final_contact_length: final_share * distance,
+                final_share,
+                final_duration: 5.0 * final_share,
+                longest_earlier_contact: 0.05,
+                tail_longest_hop: 0.5,
+                lateral: -1.0,
+            },
+            outcome: Some(Outcome::Sank),
+            longest_contact: 5.0 * final_share,
+            crest: 0.001,
+        }
+    }
+
+    fn case(dt: f64, distance: f64, share: f64) -> TickCase {
+        TickCase {
+            stem: "default",
+            surface: Surface::Columns { cell: 0.02 },
+            dt,
+            runs: vec![run(distance, share), run(distance + 1.0, share)],
+        }
+    }
+
+    #[test]
+    fn the_trend_runs_from_the_coarsest_tick_and_checks_the_two_finest() {
+        let s = TickStudy {
+            cases: vec![
+                case(0.000625, 12.0, 0.05),
+                case(0.005, 17.0, 0.05),
+                case(0.00125, 12.4, 0.5),
+            ],
+        };
+        let (d, converged) = trend(&of(&s, "default", Surface::Columns { cell: 0.02 }));
+        assert_eq!(d, vec![17.0, 12.4, 12.0]);
+        // |12.0 − 12.4| / 12.4 = 3.2 % ≤ 5 %.
+        assert_eq!(converged, Some(true));
+        let w = lead_words(&s);
+        assert!(
+            w.starts_with("runs that break the rule at a 0.625 ms tick: columns 0 of 2 (yes)"),
+            "{w}"
+        );
+        assert!(w.ends_with("in 1 of 1 series"), "{w}");
+    }
+
+    #[test]
+    fn a_verdict_that_changes_with_the_tick_is_named() {
+        let s = TickStudy {
+            cases: vec![case(0.005, 58.0, 0.01), case(0.0003125, 57.0, 0.5)],
+        };
+        let w = verdicts(&s);
+        assert!(
+            w.contains("default on columns 2.0 cm (0 of 2 at 5.00 ms, 2 of 2 at 0.312 ms)"),
+            "{w}"
+        );
+        let same = TickStudy {
+            cases: vec![case(0.005, 58.0, 0.01), case(0.0003125, 57.0, 0.01)],
+        };
+        assert!(verdicts(&same).contains("the same at every tick"));
+    }
+
+    #[test]
+    fn quick_runs_two_ticks_on_each_surface() {
+        assert_eq!(cases(true).len(), 4);
+        assert_eq!(cases(false).len(), 3 * 2 * TICKS.len());
+    }
+}
