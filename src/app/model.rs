@@ -133,30 +133,47 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
         }
     }
     if p.water.enabled && p.water.wavy_contact {
+        // docs/studies/fidelity §11: coupled once a tick, the stone runs up to a tick ahead of
+        // its own wave; on the deep-water patch the distances settle below 0.625 ms, on the
+        // columns they move with the tick at every tick the study ran.
+        let coarse = p.physics.dt > SETTLED_TICK;
+        let ms = p.physics.dt * 1e3;
         if p.water.near_field == crate::sim::params::NearField::Spectral {
-            // docs/studies/fidelity §10: on deep water the throws come close to flat water (planing
-            // glides included); the default's distance still moves a few % as the patch is refined.
+            // §10: the throws on deep water end in planing glides, as on flat water.
             let s = p.water.spectral;
             w.push(format!(
-                "deep-water near field of {} × {} cells of {:.1} mm: close to flat water, \
-                 planing glides included; the distance still moves with the patch cell (fidelity \
-                 study §10)",
+                "deep-water near field of {} × {} cells of {:.1} mm: throws end in planing \
+                 glides, as on flat water (fidelity study §10){}",
                 s.cells,
                 s.cells,
-                s.cell * 1e3
+                s.cell * 1e3,
+                if coarse {
+                    format!(
+                        "; at a {ms:.2} ms tick the stone runs ahead of its own wave, results \
+                         settle below {} ms (§11)",
+                        SETTLED_TICK * 1e3
+                    )
+                } else {
+                    String::new()
+                }
             ));
         } else {
-            // docs/studies/fidelity §9: from 5 cm to 7 mm columns the near field has not converged
-            // (planing glides come back below 1.4 cm), and it changes with the rest depth.
+            // §9: from 5 cm to 7 mm columns the near field has not converged (planing glides
+            // come back below 1.4 cm), and it changes with the rest depth.
             w.push(format!(
-                "wavy contact on {:.1} cm cells: the near field is not converged, results move \
-                 with the cell and the depth (fidelity study §9)",
+                "wavy contact on {:.1} cm cells at a {ms:.2} ms tick: the near field is not \
+                 converged, results move with the cell, the depth (fidelity study §9) and the \
+                 tick (§11)",
                 p.water.cell * 100.0
             ));
         }
     }
     w
 }
+
+/// The coupling tick (s) below which the fidelity study's distances on the deep-water near field
+/// settle (docs/studies/fidelity §11).
+const SETTLED_TICK: f64 = 0.000625;
 
 /// The stone's volume from its shape (m³), when the shape has a closed form.
 fn stone_volume(p: &Preset) -> Option<f64> {
@@ -1300,6 +1317,20 @@ mod tests {
         // No cell is converged (fidelity §9): the finest one the UI allows is warned of too.
         wavy.water.cell = 0.005;
         assert!(setup_warnings(&wavy)[0].contains("not converged"));
+        assert!(setup_warnings(&wavy)[0].contains("tick (§11)"));
+        // The deep-water near field: its glides, and the tick while it is coarser than the one
+        // where the study's distances settle (fidelity §11).
+        let mut deep = wavy.clone();
+        deep.water.near_field = crate::sim::params::NearField::Spectral;
+        deep.physics.dt = 0.005;
+        let w = &setup_warnings(&deep)[0];
+        assert!(
+            w.contains("planing glides") && w.contains("5.00 ms tick"),
+            "{w}"
+        );
+        deep.physics.dt = SETTLED_TICK;
+        let w = &setup_warnings(&deep)[0];
+        assert!(w.contains("planing glides") && !w.contains("§11"), "{w}");
     }
 
     #[test]

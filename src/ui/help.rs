@@ -145,7 +145,8 @@ const MODEL: &[(&str, &str, &str)] = &[
          pressure moves, which breaks up the steady planing glides of flat water (the shipped \
          presets use it on 2 cm columns). Not converged: results move with the cell and the \
          depth, and below 1.4 cm the glides come back (the columns are shallow-water waves; \
-         at the stone's scale real water is deep).",
+         at the stone's scale real water is deep); the stone and the water meet once a tick, \
+         and results move with the tick too (fidelity §11).",
         "the paper (future work); Hewitt et al. 2011; docs/studies/fidelity",
     ),
     (
@@ -153,8 +154,9 @@ const MODEL: &[(&str, &str, &str)] = &[
         "Optional (water.near_field: Spectral, the Water panel): the stone rides on a square patch \
          of deep water that follows it (drawn with a pale outline), linear potential flow with the \
          capillary–gravity dispersion ω² = (gk + σk³/ρ) tanh(kH), each Fourier mode stepped \
-         exactly. Deep water gives way about kH times less than the columns, so the throws come \
-         close to flat water, planing glides included.",
+         exactly. Deep water gives way about kH times less than the columns, and the throws end \
+         in planing glides as on flat water (shorter once the tick is well under the stone's \
+         crossing of its own length: fidelity §11).",
         "Lamb 1932 §§229, 267, 348; docs/studies/fidelity §10",
     ),
     (
