@@ -453,6 +453,17 @@ pub struct WaterParams {
     pub near_field: NearField,
     /// The spectral near field's patch and constants (read with `near_field: Spectral`).
     pub spectral: SpectralParams,
+    /// s: the longest water step of the columns; omitted: the automatic step, [`COURANT_SAFETY`]
+    /// of the Courant limit (numerics only: a shorter step is always stable; fidelity study §11
+    /// refines it with the tick).
+    ///
+    /// [`COURANT_SAFETY`]: crate::sim::water::COURANT_SAFETY
+    #[serde(
+        deserialize_with = "de_plain_option",
+        serialize_with = "ser_plain_option",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub max_step: Option<f64>,
 }
 
 /// The surface the stone touches with wavy contact.
@@ -507,6 +518,7 @@ impl Default for WaterParams {
             swell: None,
             near_field: NearField::Columns,
             spectral: SpectralParams::default(),
+            max_step: None,
         }
     }
 }
@@ -776,6 +788,9 @@ impl WaterParams {
         check_range("water.cell", self.cell, 0.005, 5.0, "m")?;
         check_range("water.depth", self.depth, 0.01, 100.0, "m")?;
         check_range("water.damping", self.damping, 0.0, 100.0, "1/s")?;
+        if let Some(m) = self.max_step {
+            check_range("water.max_step", m, 1e-5, 0.1, "s")?;
+        }
         if self.enabled {
             let nx = (self.size[0] / self.cell).ceil();
             let ny = (self.size[1] / self.cell).ceil();

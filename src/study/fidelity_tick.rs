@@ -25,8 +25,10 @@ use super::{Ctx, StudyError};
 /// The near field a case's stone rides on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Surface {
-    /// The shipped columns (the preset's cell; 5 cm when quick) on §9's lake.
-    Columns { cell: f64 },
+    /// The shipped columns (the preset's cell; 5 cm when quick) on §9's lake, made longer and
+    /// wider; `refined`: their own water step at most the tick (`water.max_step`), so that the
+    /// water, not only the stone, is refined in time.
+    Columns { cell: f64, refined: bool },
     /// The spectral patch: cells along a side and the cell (m), on §10's lake.
     Spectral { cells: u32, cell: f64 },
 }
@@ -34,7 +36,15 @@ pub enum Surface {
 impl Surface {
     fn label(&self) -> String {
         match self {
-            Surface::Columns { cell } => format!("columns {} cm", sig(100.0 * cell, 2)),
+            Surface::Columns { cell, refined } => format!(
+                "columns {} cm{}",
+                sig(100.0 * cell, 2),
+                if *refined {
+                    ", water step ≤ tick"
+                } else {
+                    ""
+                }
+            ),
             Surface::Spectral { cells, cell } => format!(
                 "spectral {} cm, {} m",
                 sig(100.0 * cell, 2),
@@ -45,7 +55,8 @@ impl Surface {
 
     fn kind(&self) -> &'static str {
         match self {
-            Surface::Columns { .. } => "columns",
+            Surface::Columns { refined: false, .. } => "columns",
+            Surface::Columns { refined: true, .. } => "columns (water step ≤ tick)",
             Surface::Spectral { .. } => "spectral",
         }
     }
@@ -90,6 +101,8 @@ const CONVERGED: f64 = 0.05;
 
 /// How much longer than §9's the columns' lakes are (m).
 const EXTRA_LENGTH: f64 = 20.0;
+/// The columns' lakes' width (m; §9's are 6 m).
+const COLUMNS_WIDTH: f64 = 12.0;
 
 /// The spectral patch of the full study: §10's middle one (1 cm cells, 1.28 m).
 const PATCH: (u32, f64) = (128, 0.01);
@@ -107,7 +120,14 @@ fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
     let (cells, cell) = if quick { QUICK_PATCH } else { PATCH };
     let column = if quick { QUICK_CELL } else { 0.02 };
     let surfaces = [
-        Surface::Columns { cell: column },
+        Surface::Columns {
+            cell: column,
+            refined: false,
+        },
+        Surface::Columns {
+            cell: column,
+            refined: true,
+        },
         Surface::Spectral { cells, cell },
     ];
     let mut out = Vec::new();
@@ -123,12 +143,16 @@ fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
 /// shipped-column run on a lake [`EXTRA_LENGTH`] longer.
 fn preset(stem: &str, surface: Surface, dt: f64, quick: bool) -> Result<Preset, StudyError> {
     let mut p = match surface {
-        Surface::Columns { .. } => {
+        Surface::Columns { refined, .. } => {
             let mut p = shipped_for(stem, quick)?;
-            let (size, origin) = super::fidelity_grid::lake(stem);
-            // §9's lake, longer: at finer ticks the record throw reached §9's far end.
-            p.water.size = [size[0] + EXTRA_LENGTH, size[1]];
-            p.water.origin = Some(origin);
+            let (size, _) = super::fidelity_grid::lake(stem);
+            // §9's lake, longer and wider: at finer ticks the record throw reached §9's far end,
+            // and with the water step refined a throw can curve out of its sides.
+            p.water.size = [size[0] + EXTRA_LENGTH, COLUMNS_WIDTH];
+            p.water.origin = Some([-2.0, -0.5 * COLUMNS_WIDTH]);
+            if refined {
+                p.water.max_step = Some(dt);
+            }
             p
         }
         Surface::Spectral { cells, cell } => {
@@ -176,7 +200,7 @@ pub fn write_csvs(ctx: &Ctx, s: &TickStudy) -> Result<(), StudyError> {
     ]);
     for case in &s.cases {
         let cell = match case.surface {
-            Surface::Columns { cell } | Surface::Spectral { cell, .. } => cell,
+            Surface::Columns { cell, .. } | Surface::Spectral { cell, .. } => cell,
         };
         for r in &case.runs {
             c.push(vec![
@@ -241,7 +265,7 @@ fn trend(cases: &[&TickCase]) -> (Vec<f64>, Option<bool>) {
 pub fn lead_words(s: &TickStudy) -> String {
     let finest = s.cases.iter().map(|c| c.dt).fold(f64::INFINITY, f64::min);
     let mut parts = Vec::new();
-    for kind in ["columns", "spectral"] {
+    for kind in ["columns", "columns (water step ≤ tick)", "spectral"] {
         let (g, n) = s
             .cases
             .iter()
@@ -421,12 +445,15 @@ pub fn section(s: &TickStudy, spectral: &SpectralStudy) -> String {
          tick the stone reads the surface the last tick left, and its impulses move the water at \
          the tick's end, so the stone runs up to a tick ahead of its own wave (the default crosses \
          its own 10 cm in 8 ms). §9 and §10 ran at the shipped 5 ms. Here the {} throw{} on the \
-         shipped columns (§9's lakes, {} m longer) and on the spectral patch (§10's lakes) at \
-         ticks from {} ms down to {} ms, from §2's launch heights; at 5 ms the spectral runs are \
-         §10's. The rule as in §9.\n\n",
+         shipped columns (§9's lakes, {} m longer and {} m wide), as shipped (their own water \
+         step stays at 70 % of the Courant limit, 7.1 ms at 2 cm) and with that step at most the \
+         tick (`water.max_step`), and on the spectral patch (§10's lakes) at ticks from {} ms \
+         down to {} ms, from §2's launch heights; at 5 ms the spectral runs are §10's. The rule as \
+         in §9.\n\n",
         and_list(&throws),
         if throws.len() > 1 { "s" } else { "" },
         EXTRA_LENGTH,
+        COLUMNS_WIDTH,
         ms(s.cases.iter().map(|c| c.dt).fold(0.0, f64::max)),
         ms(s.cases.iter().map(|c| c.dt).fold(f64::INFINITY, f64::min)),
     );
@@ -473,7 +500,10 @@ mod tests {
     fn case(dt: f64, distance: f64, share: f64) -> TickCase {
         TickCase {
             stem: "default",
-            surface: Surface::Columns { cell: 0.02 },
+            surface: Surface::Columns {
+                cell: 0.02,
+                refined: false,
+            },
             dt,
             runs: vec![run(distance, share), run(distance + 1.0, share)],
         }
@@ -488,7 +518,11 @@ mod tests {
                 case(0.00125, 12.4, 0.5),
             ],
         };
-        let (d, converged) = trend(&of(&s, "default", Surface::Columns { cell: 0.02 }));
+        let surface = Surface::Columns {
+            cell: 0.02,
+            refined: false,
+        };
+        let (d, converged) = trend(&of(&s, "default", surface));
         assert_eq!(d, vec![17.0, 12.4, 12.0]);
         // |12.0 − 12.4| / 12.4 = 3.2 % ≤ 5 %.
         assert_eq!(converged, Some(true));
@@ -518,7 +552,7 @@ mod tests {
 
     #[test]
     fn quick_runs_two_ticks_on_each_surface() {
-        assert_eq!(cases(true).len(), 4);
-        assert_eq!(cases(false).len(), 3 * 2 * TICKS.len());
+        assert_eq!(cases(true).len(), 6);
+        assert_eq!(cases(false).len(), 3 * 3 * TICKS.len());
     }
 }

@@ -225,6 +225,8 @@ fn positive(field: &str, v: f64) -> Result<(), ParamError> {
 pub struct WaterGrid {
     cfg: WaterConfig,
     dt: f64,
+    /// The longest step a preset allows (`water.max_step`), under the automatic one.
+    max_step: Option<f64>,
     co: Coeffs,
     /// Depths, flows, bed and pressure in the grid's precision.
     state: State,
@@ -305,6 +307,11 @@ impl WaterGrid {
             precision: params.precision,
         };
         let mut grid = Self::with_config(cfg)?;
+        if let Some(m) = params.max_step {
+            grid.max_step = Some(m);
+            grid.dt = grid.dt.min(m);
+            grid.co = Coeffs::new(&grid.cfg, grid.dt);
+        }
         if let Some(swell) = params.swell {
             grid.set_swell(&swell);
         }
@@ -324,6 +331,7 @@ impl WaterGrid {
         Ok(Self {
             cfg,
             dt,
+            max_step: None,
             co,
             state,
             row_bed: vec![false; cfg.ny],
@@ -359,7 +367,9 @@ impl WaterGrid {
         }
         self.epoch = (self.time(), self.steps);
         self.cfg = cfg;
-        self.dt = step_for(&cfg);
+        self.dt = self
+            .max_step
+            .map_or(step_for(&cfg), |m| step_for(&cfg).min(m));
         self.co = Coeffs::new(&cfg, self.dt);
         Ok(())
     }

@@ -544,3 +544,32 @@ fn box_footprint_does_not_change_when_the_cell_is_halved() {
         }
     }
 }
+
+/// `water.max_step` caps the automatic step (a shorter step is always stable), keeps it capped when
+/// gravity changes live, and leaves the automatic step alone when it is longer than the step.
+#[test]
+fn a_preset_can_cap_the_water_step() {
+    use crate::sim::params::WaterParams;
+    let auto = WaterGrid::new(&WaterParams::default(), [0.0, 0.0], 9.81, 1000.0).unwrap();
+    let capped_params = WaterParams {
+        max_step: Some(0.25 * auto.step_dt()),
+        ..WaterParams::default()
+    };
+    let mut capped = WaterGrid::new(&capped_params, [0.0, 0.0], 9.81, 1000.0).unwrap();
+    assert_eq!(capped.step_dt(), 0.25 * auto.step_dt());
+    // Four times the gravity halves the Courant step: still under it, and still capped.
+    capped.set_constants(4.0 * 9.81, 1000.0).unwrap();
+    assert!(capped.step_dt() <= 0.25 * auto.step_dt());
+    assert!(capped.courant() <= capped.courant_limit());
+    let loose = WaterParams {
+        max_step: Some(0.1),
+        ..WaterParams::default()
+    };
+    let w = WaterGrid::new(&loose, [0.0, 0.0], 9.81, 1000.0).unwrap();
+    assert_eq!(w.step_dt(), auto.step_dt());
+    let bad = WaterParams {
+        max_step: Some(0.0),
+        ..WaterParams::default()
+    };
+    assert_eq!(bad.validate().unwrap_err().field, "water.max_step");
+}
