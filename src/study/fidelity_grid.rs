@@ -246,6 +246,28 @@ pub(super) fn median_distance(runs: &[GridRun]) -> Option<f64> {
     lower_median_f(&sorted_by(runs, |r| r.shape.distance))
 }
 
+/// A run of `skips` over `distance` whose last contact covers `final_share` of it (the studies'
+/// unit tests).
+#[cfg(test)]
+pub(super) fn test_run(skips: usize, distance: f64, final_share: f64) -> GridRun {
+    GridRun {
+        dz: 0.0,
+        shape: crate::sim::metrics::ThrowShape {
+            skips,
+            distance,
+            final_contact_length: final_share * distance,
+            final_share,
+            final_duration: 5.0 * final_share,
+            longest_earlier_contact: 0.05,
+            tail_longest_hop: 0.5,
+            lateral: -1.0,
+        },
+        outcome: Some(Outcome::Sank),
+        longest_contact: 5.0 * final_share,
+        crest: 0.001,
+    }
+}
+
 pub fn compute(ctx: &Ctx) -> Result<GridStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the near field under refinement");

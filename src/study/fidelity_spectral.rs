@@ -392,26 +392,8 @@ pub fn section(s: &SpectralStudy, g: &GridStudy) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::metrics::ThrowShape;
 
-    fn run(skips: usize, distance: f64, final_share: f64) -> GridRun {
-        GridRun {
-            dz: 0.0,
-            shape: ThrowShape {
-                skips,
-                distance,
-                final_contact_length: final_share * distance,
-                final_share,
-                final_duration: 5.0 * final_share,
-                longest_earlier_contact: 0.05,
-                tail_longest_hop: 0.5,
-                lateral: -1.0,
-            },
-            outcome: Some(Outcome::Sank),
-            longest_contact: 5.0 * final_share,
-            crest: 0.001,
-        }
-    }
+    use super::super::fidelity_grid::test_run as run;
 
     fn study() -> SpectralStudy {
         SpectralStudy {

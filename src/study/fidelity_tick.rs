@@ -72,16 +72,6 @@ pub struct TickCase {
     pub runs: Vec<GridRun>,
 }
 
-impl TickCase {
-    pub fn glides(&self) -> usize {
-        glides(&self.runs)
-    }
-
-    fn median_distance(&self) -> Option<f64> {
-        median_distance(&self.runs)
-    }
-}
-
 /// What §11 measured.
 #[derive(Debug, Clone)]
 pub struct TickStudy {
@@ -252,7 +242,10 @@ fn ms(dt: f64) -> String {
 /// One series' median distances from the coarsest tick to the finest, and whether its two finest
 /// ticks agree within [`CONVERGED`].
 fn trend(cases: &[&TickCase]) -> (Vec<f64>, Option<bool>) {
-    let d: Vec<f64> = cases.iter().filter_map(|c| c.median_distance()).collect();
+    let d: Vec<f64> = cases
+        .iter()
+        .filter_map(|c| median_distance(&c.runs))
+        .collect();
     let converged = match d.as_slice() {
         [.., a, b] => Some((b - a).abs() <= CONVERGED * a.abs()),
         _ => None,
@@ -270,7 +263,7 @@ pub fn lead_words(s: &TickStudy) -> String {
             .cases
             .iter()
             .filter(|c| c.dt == finest && c.surface.kind() == kind)
-            .fold((0, 0), |(g, n), c| (g + c.glides(), n + c.runs.len()));
+            .fold((0, 0), |(g, n), c| (g + glides(&c.runs), n + c.runs.len()));
         if n > 0 {
             parts.push(format!("{kind} {g} of {n}"));
         }
@@ -279,7 +272,7 @@ pub fn lead_words(s: &TickStudy) -> String {
         .cases
         .iter()
         .filter(|c| c.dt == finest)
-        .all(|c| c.glides() == 0);
+        .all(|c| glides(&c.runs) == 0);
     let settled = series(s)
         .iter()
         .filter(|(stem, surface)| trend(&of(s, stem, *surface)).1 == Some(true))
@@ -304,7 +297,7 @@ fn case_rows(s: &TickStudy) -> Vec<Vec<String>> {
                 ms(c.dt),
                 spread(&sorted_skips(&c.runs), |k: usize| k.to_string()),
                 spread(&sorted_by(&c.runs, |r| r.shape.distance), |x| sig(x, 3)),
-                format!("{} of {}", c.glides(), c.runs.len()),
+                format!("{} of {}", glides(&c.runs), c.runs.len()),
                 spread(&sorted_by(&c.runs, |r| r.longest_contact), |x| sig(x, 2)),
                 format!("{} of {}", left(&c.runs), c.runs.len()),
             ]
@@ -338,10 +331,10 @@ fn findings(s: &TickStudy, spectral: &SpectralStudy) -> String {
             d.iter().map(|x| sig(*x, 3)).collect::<Vec<_>>().join(" → "),
             ms(first.dt),
             ms(last.dt),
-            first.glides(),
+            glides(&first.runs),
             first.runs.len(),
             ms(first.dt),
-            last.glides(),
+            glides(&last.runs),
             last.runs.len(),
             ms(last.dt),
             match converged {
@@ -376,14 +369,14 @@ fn verdicts(s: &TickStudy) -> String {
         .filter_map(|(stem, surface)| {
             let cases = of(s, stem, surface);
             let (a, b) = (cases.first()?, cases.last()?);
-            (a.glides() != b.glides()).then(|| {
+            (glides(&a.runs) != glides(&b.runs)).then(|| {
                 format!(
                     "{stem} on {} ({} of {} at {} ms, {} of {} at {} ms)",
                     surface.label(),
-                    a.glides(),
+                    glides(&a.runs),
                     a.runs.len(),
                     ms(a.dt),
-                    b.glides(),
+                    glides(&b.runs),
                     b.runs.len(),
                     ms(b.dt)
                 )
@@ -428,7 +421,7 @@ fn flat_gaps(s: &TickStudy, spectral: &SpectralStudy) -> String {
                     sig(flat, 3),
                     sig(fine, 3),
                     100.0 * gap(fine, flat),
-                    finest.glides(),
+                    glides(&finest.runs),
                     finest.runs.len()
                 ));
             }
@@ -476,25 +469,9 @@ pub fn section(s: &TickStudy, spectral: &SpectralStudy) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::metrics::ThrowShape;
 
     fn run(distance: f64, final_share: f64) -> GridRun {
-        GridRun {
-            dz: 0.0,
-            shape: ThrowShape {
-                skips: 4,
-                distance,
-                final_contact_length: final_share * distance,
-                final_share,
-                final_duration: 5.0 * final_share,
-                longest_earlier_contact: 0.05,
-                tail_longest_hop: 0.5,
-                lateral: -1.0,
-            },
-            outcome: Some(Outcome::Sank),
-            longest_contact: 5.0 * final_share,
-            crest: 0.001,
-        }
+        super::super::fidelity_grid::test_run(4, distance, final_share)
     }
 
     fn case(dt: f64, distance: f64, share: f64) -> TickCase {
