@@ -815,6 +815,7 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
         c |= row(ui, marks, "damping", "Damping", "Per second", |ui| {
             ui.add(slider(&mut water.damping, 0.0..=5.0).suffix(" 1/s"))
         });
+        c |= max_step_row(ui, marks, &mut water.max_step);
         label_ui(ui, marks, &["diagonal pipes"], "Pipes", "");
         c |= ui
             .checkbox(&mut water.diagonal_pipes, "diagonals (isotropic)")
@@ -860,6 +861,52 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
     });
     changed |= swell_ui(ui, water, marks);
     changed |= near_field_ui(ui, water, marks);
+    changed
+}
+
+/// The columns' longest step: unchecked, the automatic one under the Courant limit; checked, at
+/// most the slider's (fidelity study §11 refines it with the tick).
+fn max_step_row(ui: &mut Ui, marks: &Marks, max_step: &mut Option<f64>) -> bool {
+    label_ui(
+        ui,
+        marks,
+        &["max step"],
+        "Water step",
+        "The columns' longest step. Unchecked: 70 % of the Courant limit. A shorter step is always \
+         stable, costs more, and lets the water answer the stone sooner (fidelity study §11)",
+    );
+    let mut changed = false;
+    ui.horizontal(|ui| {
+        let mut capped = max_step.is_some();
+        if ui
+            .checkbox(&mut capped, "")
+            .on_hover_text("At most this step; unchecked: the automatic step")
+            .changed()
+        {
+            *max_step = capped.then_some(1e-3);
+            changed = true;
+        }
+        match max_step {
+            Some(v) => {
+                let mut ms = *v * 1e3;
+                if ui
+                    .add(
+                        slider(&mut ms, 0.01..=100.0)
+                            .logarithmic(true)
+                            .suffix(" ms"),
+                    )
+                    .changed()
+                {
+                    *v = ms * 1e-3;
+                    changed = true;
+                }
+            }
+            None => {
+                ui.weak("automatic (Courant)");
+            }
+        }
+    });
+    ui.end_row();
     changed
 }
 
@@ -1370,6 +1417,7 @@ mod tests {
         w.diagonal_pipes = !w.diagonal_pipes;
         w.limiter = Limiter::PaperClamp;
         w.precision = Precision::F64;
+        w.max_step = Some(5e-4);
         w.swell = Some(Swell {
             amplitude: 0.03,
             wavelength: 2.0,
@@ -1382,7 +1430,7 @@ mod tests {
             section_differences(&p.water, &w),
         ];
         let counts: Vec<usize> = d.iter().map(Vec::len).collect();
-        assert_eq!(counts, [13, 5, 14, 13], "{d:?}");
+        assert_eq!(counts, [13, 5, 14, 14], "{d:?}");
         let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
         draw(|ui| {
             launch_ui(ui, &mut l, &m[0]);
@@ -1447,8 +1495,8 @@ mod tests {
         assert_eq!(w2.spectral.viscosity, 2e-6);
     }
 
-    /// Every setting the validator accepts for the near field survives being drawn: the sliders'
-    /// ranges hold the validator's, so showing a preset never changes it.
+    /// Every setting the validator accepts for the near field and the water step survives being
+    /// drawn: the sliders' ranges hold the validator's, so showing a preset never changes it.
     #[test]
     fn drawing_the_near_field_keeps_every_valid_setting() {
         for (cell, sigma, nu) in [(0.001, 0.0, 0.0), (0.5, 1.0, 0.01), (0.01, 0.0728, 1e-6)] {
@@ -1463,6 +1511,8 @@ mod tests {
                 surface_tension: sigma,
                 viscosity: nu,
             };
+            // The water step's row too, from its shortest to its longest.
+            w.max_step = Some(0.2 * cell);
             assert!(w.validate().is_ok());
             let before = w;
             draw(|ui| {
