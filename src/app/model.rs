@@ -136,26 +136,25 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
         // docs/studies/fidelity §11: coupled once a tick, the stone runs up to a tick ahead of
         // its own wave; on the deep-water patch the distances settle below 0.625 ms, on the
         // columns they move with the tick at every tick the study ran.
-        let coarse = p.physics.dt > SETTLED_TICK;
         let ms = p.physics.dt * 1e3;
         if p.water.near_field == crate::sim::params::NearField::Spectral {
             // §10: the throws on deep water end in planing glides, as on flat water.
             let s = p.water.spectral;
+            let tick = if p.physics.dt > SETTLED_TICK {
+                format!(
+                    "; at a {ms:.2} ms tick the stone runs ahead of its own wave, results settle \
+                     below {} ms (§11)",
+                    SETTLED_TICK * 1e3
+                )
+            } else {
+                String::new()
+            };
             w.push(format!(
                 "deep-water near field of {} × {} cells of {:.1} mm: throws end in planing \
-                 glides, as on flat water (fidelity study §10){}",
+                 glides, as on flat water (fidelity study §10){tick}",
                 s.cells,
                 s.cells,
-                s.cell * 1e3,
-                if coarse {
-                    format!(
-                        "; at a {ms:.2} ms tick the stone runs ahead of its own wave, results \
-                         settle below {} ms (§11)",
-                        SETTLED_TICK * 1e3
-                    )
-                } else {
-                    String::new()
-                }
+                s.cell * 1e3
             ));
         } else {
             // §9: from 5 cm to 7 mm columns the near field has not converged (planing glides

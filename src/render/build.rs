@@ -223,8 +223,9 @@ impl WaterHeights {
     }
 
     /// Copies η from `sim` if the grid (or the near field) stepped since the last call; where the
-    /// stone rides on a spectral near field, its surface is drawn there ([`overlay_near_field`]). `generation` must change when
-    /// the simulation is rebuilt (a new grid). Returns whether a copy happened.
+    /// stone rides on a spectral near field, its surface is drawn there ([`overlay_near_field`]).
+    /// `generation` must change when the simulation is rebuilt (a new grid). Returns whether a
+    /// copy happened.
     pub fn refresh(&mut self, sim: &Simulation, generation: u64) -> bool {
         let Some(w) = sim.water() else {
             self.data.clear();

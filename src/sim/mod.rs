@@ -647,8 +647,8 @@ impl Simulation {
     /// Stops stepping the water when nothing the run reports depends on it: with wavy contact off
     /// the stone meets the plane z = 0 (with the spectral near field, that field), so its motion,
     /// contacts and outcome are the same with the water at rest (the lake's extent still bounds
-    /// the run: `left_domain`). Headless runs call this; the app does not (it shows the rings). Returns whether the water is now left at rest; the
-    /// summary says so (`water.stepped`).
+    /// the run: `left_domain`). Headless runs call this; the app does not (it shows the rings).
+    /// Returns whether the water is now left at rest; the summary says so (`water.stepped`).
     pub fn skip_unread_water(&mut self) -> bool {
         if self.water.is_some() && (!self.preset.water.wavy_contact || self.near.is_some()) {
             self.step_water = false;

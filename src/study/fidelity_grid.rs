@@ -83,15 +83,28 @@ pub(super) fn sorted_by(runs: &[GridRun], f: impl Fn(&GridRun) -> f64) -> Vec<f6
     v
 }
 
-/// The distinct stems, in the order they first appear.
-pub(super) fn distinct(stems: impl Iterator<Item = &'static str>) -> Vec<&'static str> {
-    let mut t: Vec<&'static str> = Vec::new();
-    for stem in stems {
-        if !t.contains(&stem) {
-            t.push(stem);
+/// The distinct items (throws, surfaces, series), in the order they first appear.
+pub(super) fn distinct<T: PartialEq>(items: impl Iterator<Item = T>) -> Vec<T> {
+    let mut t: Vec<T> = Vec::new();
+    for item in items {
+        if !t.contains(&item) {
+            t.push(item);
         }
     }
     t
+}
+
+/// One table row: `label`, then an ensemble's skips, distances, runs that break the rule, longest
+/// contacts and runs that left the lake (`lake_note` after the last).
+pub(super) fn ensemble_row(label: String, runs: &[GridRun], lake_note: &str) -> Vec<String> {
+    vec![
+        label,
+        spread(&sorted_skips(runs), |k: usize| k.to_string()),
+        spread(&sorted_by(runs, |r| r.shape.distance), |x| sig(x, 3)),
+        format!("{} of {}", glides(runs), runs.len()),
+        spread(&sorted_by(runs, |r| r.longest_contact), |x| sig(x, 2)),
+        format!("{} of {}{lake_note}", left(runs), runs.len()),
+    ]
 }
 
 impl GridCase {

@@ -14,8 +14,8 @@ use crate::sim::Outcome;
 
 use super::fidelity::{ensemble_offsets, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE};
 use super::fidelity_grid::{
-    and_list, cm, distinct, ensembles, glides, left, median_distance, sorted_by, sorted_skips,
-    spread, GridRun, GridStudy, SHIPPED,
+    and_list, cm, distinct, ensemble_row, ensembles, glides, median_distance, GridRun, GridStudy,
+    SHIPPED,
 };
 use super::table::{md_table, sig, Csv};
 use super::{Ctx, StudyError};
@@ -216,13 +216,12 @@ fn tally(s: &SpectralStudy, pick: impl Fn(&NearCase) -> bool) -> (usize, usize) 
 
 /// The spectral patches the study ran, in order.
 fn patches(s: &SpectralStudy) -> Vec<Near> {
-    let mut v: Vec<Near> = Vec::new();
-    for c in s.cases.iter().filter(|c| c.near.is_spectral()) {
-        if !v.contains(&c.near) {
-            v.push(c.near);
-        }
-    }
-    v
+    distinct(
+        s.cases
+            .iter()
+            .filter(|c| c.near.is_spectral())
+            .map(|c| c.near),
+    )
 }
 
 /// One line for the lead table.
@@ -250,18 +249,6 @@ pub fn lead_words(s: &SpectralStudy) -> String {
     )
 }
 
-/// One table row: an ensemble's skips, distances, glides, longest contacts and runs that left.
-fn row(label: String, runs: &[GridRun], lake_note: &str) -> Vec<String> {
-    vec![
-        label,
-        spread(&sorted_skips(runs), |k: usize| k.to_string()),
-        spread(&sorted_by(runs, |r| r.shape.distance), |x| sig(x, 3)),
-        format!("{} of {}", glides(runs), runs.len()),
-        spread(&sorted_by(runs, |r| r.longest_contact), |x| sig(x, 2)),
-        format!("{} of {}{lake_note}", left(runs), runs.len()),
-    ]
-}
-
 fn case_rows(s: &SpectralStudy, g: &GridStudy) -> Vec<Vec<String>> {
     let mut rows = Vec::new();
     for stem in throws(s) {
@@ -271,14 +258,18 @@ fn case_rows(s: &SpectralStudy, g: &GridStudy) -> Vec<Vec<String>> {
             .iter()
             .find(|c| c.stem == stem && (c.cell, c.depth) == SHIPPED)
         {
-            rows.push(row(
+            rows.push(ensemble_row(
                 format!("{stem}, columns {} cm (shipped, §9)", cm(c.cell)),
                 &c.runs,
                 " (§9's lake)",
             ));
         }
         for c in s.cases.iter().filter(|c| c.stem == stem) {
-            rows.push(row(format!("{stem}, {}", c.near.label()), &c.runs, ""));
+            rows.push(ensemble_row(
+                format!("{stem}, {}", c.near.label()),
+                &c.runs,
+                "",
+            ));
         }
     }
     rows

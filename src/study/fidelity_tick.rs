@@ -15,8 +15,7 @@ use crate::sim::Outcome;
 
 use super::fidelity::{ensemble_offsets, shipped_for, QUICK_CELL};
 use super::fidelity_grid::{
-    and_list, distinct, ensembles, glides, left, median_distance, sorted_by, sorted_skips, spread,
-    GridRun,
+    and_list, distinct, ensemble_row, ensembles, glides, median_distance, GridRun,
 };
 use super::fidelity_spectral::{Near, SpectralStudy};
 use super::table::{md_table, sig, Csv};
@@ -214,13 +213,14 @@ pub fn write_csvs(ctx: &Ctx, s: &TickStudy) -> Result<(), StudyError> {
 
 /// (throw, surface) pairs in the order the cases hold them.
 fn series(s: &TickStudy) -> Vec<(&'static str, Surface)> {
-    let mut v: Vec<(&'static str, Surface)> = Vec::new();
-    for c in &s.cases {
-        if !v.contains(&(c.stem, c.surface)) {
-            v.push((c.stem, c.surface));
-        }
-    }
-    v
+    distinct(s.cases.iter().map(|c| (c.stem, c.surface)))
+}
+
+/// The coarsest and the finest tick the study ran (s).
+fn tick_range(s: &TickStudy) -> (f64, f64) {
+    s.cases.iter().fold((0.0, f64::INFINITY), |(hi, lo), c| {
+        (f64::max(hi, c.dt), f64::min(lo, c.dt))
+    })
 }
 
 /// The cases of one series, by tick from the coarsest.
@@ -256,9 +256,9 @@ fn trend(cases: &[&TickCase]) -> (Vec<f64>, Option<bool>) {
 /// One line for the lead table: the rule at the finest tick, per surface, and whether the
 /// distances settled.
 pub fn lead_words(s: &TickStudy) -> String {
-    let finest = s.cases.iter().map(|c| c.dt).fold(f64::INFINITY, f64::min);
+    let (_, finest) = tick_range(s);
     let mut parts = Vec::new();
-    for kind in ["columns", "columns (water step ≤ tick)", "spectral"] {
+    for kind in distinct(s.cases.iter().map(|c| c.surface.kind())) {
         let (g, n) = s
             .cases
             .iter()
@@ -292,15 +292,9 @@ fn case_rows(s: &TickStudy) -> Vec<Vec<String>> {
     s.cases
         .iter()
         .map(|c| {
-            vec![
-                format!("{}, {}", c.stem, c.surface.label()),
-                ms(c.dt),
-                spread(&sorted_skips(&c.runs), |k: usize| k.to_string()),
-                spread(&sorted_by(&c.runs, |r| r.shape.distance), |x| sig(x, 3)),
-                format!("{} of {}", glides(&c.runs), c.runs.len()),
-                spread(&sorted_by(&c.runs, |r| r.longest_contact), |x| sig(x, 2)),
-                format!("{} of {}", left(&c.runs), c.runs.len()),
-            ]
+            let mut row = ensemble_row(format!("{}, {}", c.stem, c.surface.label()), &c.runs, "");
+            row.insert(1, ms(c.dt));
+            row
         })
         .collect()
 }
@@ -416,7 +410,7 @@ fn flat_gaps(s: &TickStudy, spectral: &SpectralStudy) -> String {
                      m (§10); at the finest tick {} m. The deep-water near field shortens this \
                      throw by {:.0} % once the stone no longer runs ahead of its own wave; at that \
                      tick {} of {} runs still break the rule.\n",
-                    ms(s.cases.iter().map(|c| c.dt).fold(0.0, f64::max)),
+                    ms(tick_range(s).0),
                     sig(coarse, 3),
                     sig(flat, 3),
                     sig(fine, 3),
@@ -447,8 +441,8 @@ pub fn section(s: &TickStudy, spectral: &SpectralStudy) -> String {
         if throws.len() > 1 { "s" } else { "" },
         EXTRA_LENGTH,
         COLUMNS_WIDTH,
-        ms(s.cases.iter().map(|c| c.dt).fold(0.0, f64::max)),
-        ms(s.cases.iter().map(|c| c.dt).fold(f64::INFINITY, f64::min)),
+        ms(tick_range(s).0),
+        ms(tick_range(s).1),
     );
     out.push_str(&md_table(
         &[

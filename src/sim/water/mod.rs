@@ -307,10 +307,9 @@ impl WaterGrid {
             precision: params.precision,
         };
         let mut grid = Self::with_config(cfg)?;
-        if let Some(m) = params.max_step {
-            grid.max_step = Some(m);
-            grid.dt = grid.dt.min(m);
-            grid.co = Coeffs::new(&grid.cfg, grid.dt);
+        if params.max_step.is_some() {
+            grid.max_step = params.max_step;
+            grid.retime();
         }
         if let Some(swell) = params.swell {
             grid.set_swell(&swell);
@@ -367,11 +366,16 @@ impl WaterGrid {
         }
         self.epoch = (self.time(), self.steps);
         self.cfg = cfg;
-        self.dt = self
-            .max_step
-            .map_or(step_for(&cfg), |m| step_for(&cfg).min(m));
-        self.co = Coeffs::new(&cfg, self.dt);
+        self.retime();
         Ok(())
+    }
+
+    /// The step for the configuration ([`step_for`], under the preset's `max_step`) and the flow
+    /// law's coefficients for it.
+    fn retime(&mut self) {
+        let auto = step_for(&self.cfg);
+        self.dt = self.max_step.map_or(auto, |m| auto.min(m));
+        self.co = Coeffs::new(&self.cfg, self.dt);
     }
 
     // --- geometry and clock -------------------------------------------------------------------
