@@ -231,12 +231,23 @@ pub(super) fn grid_run(p: &Preset, dz: f64) -> Result<GridRun, StudyError> {
     })
 }
 
+/// Each case with its ensemble: the case's preset (`preset`) thrown from every launch-height
+/// offset of `offsets`, all on rayon's pool; in the order of `cases`.
+pub(super) fn run_cases<C: Copy>(
+    cases: Vec<C>,
+    preset: impl Fn(C) -> Result<Preset, StudyError>,
+    offsets: &[f64],
+) -> Result<Vec<(C, Vec<GridRun>)>, StudyError> {
+    let throws = cases
+        .iter()
+        .map(|&c| preset(c))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(cases.into_iter().zip(ensembles(throws, offsets)?).collect())
+}
+
 /// Every preset of `throws` from each launch-height offset of `offsets`, on rayon's pool: the
 /// runs of each preset (its ensemble), in the order of `throws`.
-pub(super) fn ensembles(
-    throws: Vec<Preset>,
-    offsets: &[f64],
-) -> Result<Vec<Vec<GridRun>>, StudyError> {
+fn ensembles(throws: Vec<Preset>, offsets: &[f64]) -> Result<Vec<Vec<GridRun>>, StudyError> {
     let n = throws.len();
     let jobs: Vec<(usize, Preset, f64)> = throws
         .into_iter()
@@ -292,8 +303,7 @@ pub fn compute(ctx: &Ctx) -> Result<GridStudy, StudyError> {
         p.water.origin = Some(origin);
         presets.push((stem, p));
     }
-    let mut throws = Vec::new();
-    for (stem, cell, depth) in cases(q) {
+    let throw = |(stem, cell, depth): (&str, f64, f64)| {
         let (_, p) = presets
             .iter()
             .find(|(s, _)| *s == stem)
@@ -301,16 +311,15 @@ pub fn compute(ctx: &Ctx) -> Result<GridStudy, StudyError> {
         let mut r = p.clone();
         r.water.cell = cell;
         r.water.depth = depth;
-        throws.push(r);
-    }
-    let mut runs = ensembles(throws, &ensemble_offsets(q))?.into_iter();
-    let cases = cases(q)
+        Ok(r)
+    };
+    let cases = run_cases(cases(q), throw, &ensemble_offsets(q))?
         .into_iter()
-        .map(|(stem, cell, depth)| GridCase {
+        .map(|((stem, cell, depth), runs)| GridCase {
             stem,
             cell,
             depth,
-            runs: runs.next().unwrap_or_default(),
+            runs,
         })
         .collect();
     let (_, p) = presets

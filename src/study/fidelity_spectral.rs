@@ -14,7 +14,7 @@ use crate::sim::Outcome;
 
 use super::fidelity::{ensemble_offsets, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE};
 use super::fidelity_grid::{
-    and_list, cm, distinct, ensemble_row, ensembles, glides, median_distance, GridRun, GridStudy,
+    and_list, cm, distinct, ensemble_row, glides, median_distance, run_cases, GridRun, GridStudy,
     SHIPPED,
 };
 use super::table::{md_table, sig, Csv};
@@ -138,18 +138,10 @@ pub(super) fn preset(stem: &str, near: Near, quick: bool) -> Result<Preset, Stud
 pub fn compute(ctx: &Ctx) -> Result<SpectralStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("a deep-water near field");
-    let throws = cases(q)
+    let throw = |(stem, near)| preset(stem, near, q);
+    let cases = run_cases(cases(q), throw, &ensemble_offsets(q))?
         .into_iter()
-        .map(|(stem, near)| preset(stem, near, q))
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut runs = ensembles(throws, &ensemble_offsets(q))?.into_iter();
-    let cases = cases(q)
-        .into_iter()
-        .map(|(stem, near)| NearCase {
-            stem,
-            near,
-            runs: runs.next().unwrap_or_default(),
-        })
+        .map(|((stem, near), runs)| NearCase { stem, near, runs })
         .collect();
     Ok(SpectralStudy { cases })
 }

@@ -15,7 +15,7 @@ use crate::sim::Outcome;
 
 use super::fidelity::{ensemble_offsets, shipped_for, QUICK_CELL};
 use super::fidelity_grid::{
-    and_list, distinct, ensemble_row, ensembles, glides, median_distance, GridRun,
+    and_list, distinct, ensemble_row, glides, median_distance, run_cases, GridRun,
 };
 use super::fidelity_spectral::{Near, SpectralStudy};
 use super::table::{md_table, sig, Csv};
@@ -155,18 +155,14 @@ fn preset(stem: &str, surface: Surface, dt: f64, quick: bool) -> Result<Preset, 
 pub fn compute(ctx: &Ctx) -> Result<TickStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the coupling tick");
-    let throws = cases(q)
+    let throw = |(stem, surface, dt)| preset(stem, surface, dt, q);
+    let cases = run_cases(cases(q), throw, &ensemble_offsets(q))?
         .into_iter()
-        .map(|(stem, surface, dt)| preset(stem, surface, dt, q))
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut runs = ensembles(throws, &ensemble_offsets(q))?.into_iter();
-    let cases = cases(q)
-        .into_iter()
-        .map(|(stem, surface, dt)| TickCase {
+        .map(|((stem, surface, dt), runs)| TickCase {
             stem,
             surface,
             dt,
-            runs: runs.next().unwrap_or_default(),
+            runs,
         })
         .collect();
     Ok(TickStudy { cases })
