@@ -69,13 +69,13 @@ pub fn text_summary(s: &Summary) -> String {
     }
     if !s.contacts.is_empty() {
         out.push_str(
-            "  #   t_start    t_end   dur(ms)      x       y   speed_in  beta_in  tilt_in  speed_out  skip\n",
+            "  #   t_start    t_end   dur(ms)      x       y   speed_in  beta_in  tilt_in  speed_out  lift(N)  skip\n",
         );
         for (i, c) in s.contacts.iter().enumerate() {
             let vin = DVec3::from_array(c.v_in).length();
             let vout = DVec3::from_array(c.v_out).length();
             out.push_str(&format!(
-                "{:>3} {:>9.4} {:>8.4} {:>8.2} {:>7.3} {:>7.3} {:>9.3} {:>8.2} {:>8.2} {:>10.3}  {}\n",
+                "{:>3} {:>9.4} {:>8.4} {:>8.2} {:>7.3} {:>7.3} {:>9.3} {:>8.2} {:>8.2} {:>10.3} {:>8.2}  {}\n",
                 i + 1,
                 c.t_start,
                 c.t_end,
@@ -86,6 +86,7 @@ pub fn text_summary(s: &Summary) -> String {
                 c.beta_in,
                 c.attitude_in[0],
                 vout,
+                c.peak_lift,
                 if c.skip {
                     "yes"
                 } else if c.graze {

@@ -123,6 +123,7 @@ fn json_is_complete_and_deterministic() {
         "attitude_in",
         "attitude_out",
         "beta_in",
+        "peak_lift",
     ] {
         assert!(c.get(key).is_some(), "contact missing {key}");
     }

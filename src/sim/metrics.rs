@@ -177,6 +177,7 @@ mod tests {
             attitude_in: [0.0; 3],
             attitude_out: [0.0; 3],
             beta_in: 0.0,
+            peak_lift: 0.0,
             open: false,
         }
     }

@@ -111,8 +111,19 @@ pub struct ContactEvent {
     pub attitude_out: [f64; 3],
     /// Angle of the velocity below the horizontal at the start (degrees).
     pub beta_in: f64,
+    /// The largest upward force the water gave during the episode (N), read at every accepted
+    /// step's end (0 if it never pushed up). Over the stone's weight it is the peak acceleration
+    /// that Tang et al. (2021, Phys. Fluids 33, 037101) found a bounce needs, above 3.80 g.
+    pub peak_lift: f64,
     #[serde(skip)]
     pub open: bool,
+}
+
+impl ContactEvent {
+    /// `peak_lift` as a multiple of the weight `weight` (N); `None` without gravity.
+    pub fn peak_g(&self, weight: f64) -> Option<f64> {
+        (weight > 0.0).then(|| self.peak_lift / weight)
+    }
 }
 
 /// Water volumes of a run (m³).
@@ -847,6 +858,7 @@ impl Simulation {
             attitude_in: att,
             attitude_out: att,
             beta_in: (-v.z).atan2(vh).to_degrees(),
+            peak_lift: 0.0,
             open: true,
         }
     }
@@ -1025,6 +1037,11 @@ impl Simulation {
         }
         self.motion.in_contact = now;
         let f = self.motion.last_force;
+        if now {
+            if let Some(ev) = self.motion.contacts.last_mut().filter(|e| e.open) {
+                ev.peak_lift = ev.peak_lift.max(f.force.z);
+            }
+        }
         on_step(&StepSample {
             time: t,
             state: s,
@@ -1767,6 +1784,28 @@ mod tests {
         let s = sim.summary();
         assert_eq!(s.outcome.map(Outcome::as_str), Some("diverged"));
         assert_eq!(s.diverged_reason.as_deref(), Some(reason));
+    }
+
+    /// On flat water a skip turns a fall into a climb, so the water's mean upward force over the
+    /// contact, m g + m (v_out.z − v_in.z)/T, exceeds the stone's weight, and so does its peak;
+    /// the last contact, the one the stone sank in, has a peak too.
+    #[test]
+    fn a_skips_peak_lift_exceeds_the_weight() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        let mut sim = Simulation::new(&p).unwrap();
+        let s = sim.run(&mut |_| {}, &|| false);
+        let weight = sim.stone().mass * p.physics.gravity;
+        assert!(s.skips >= 2, "{s:?}");
+        for c in &s.contacts {
+            let mean = sim.stone().mass * (c.v_out[2] - c.v_in[2]) / (c.t_end - c.t_start) + weight;
+            if c.skip {
+                assert!(mean > weight && c.peak_lift > weight, "{c:?}");
+                assert!(c.peak_g(weight).unwrap() > 1.0);
+            }
+            assert!(c.peak_lift > 0.0 && c.peak_lift.is_finite(), "{c:?}");
+        }
+        assert_eq!(s.contacts[0].peak_g(0.0), None);
     }
 
     /// A run that ends otherwise carries no reason.

@@ -21,6 +21,7 @@ use crate::sim::metrics::{hovercraft, tail_hops, throw_shape, TailHop, ThrowShap
 use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, simulate, Simulation, Summary};
 
+use super::fidelity_accel::{self, AccelStudy};
 use super::fidelity_air::{self, AirStudy};
 use super::fidelity_grid::{self, GridStudy};
 use super::fidelity_limit::{self, LimitStudy, Quoted};
@@ -687,6 +688,7 @@ pub struct Fidelity {
     pub grid: GridStudy,
     pub spectral: SpectralStudy,
     pub tick: TickStudy,
+    pub accel: AccelStudy,
 }
 
 /// Runs every part of the study.
@@ -720,6 +722,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let grid = fidelity_grid::compute(ctx)?;
     let spectral = fidelity_spectral::compute(ctx)?;
     let tick = fidelity_tick::compute(ctx)?;
+    let accel = fidelity_accel::compute(ctx)?;
     Ok(Fidelity {
         bounces,
         paper,
@@ -739,6 +742,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         grid,
         spectral,
         tick,
+        accel,
     })
 }
 
@@ -958,7 +962,8 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     fidelity_limit::write_csvs(ctx, &f.limit)?;
     fidelity_grid::write_csvs(ctx, &f.grid)?;
     fidelity_spectral::write_csvs(ctx, &f.spectral)?;
-    fidelity_tick::write_csvs(ctx, &f.tick)
+    fidelity_tick::write_csvs(ctx, &f.tick)?;
+    fidelity_accel::write_csvs(ctx, &f.accel)
 }
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
@@ -1053,7 +1058,8 @@ fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         2,
         None,
         &[Panel::Chart(by_touchdown), Panel::Chart(by_spin)],
-    )
+    )?;
+    fidelity_accel::write_chart(ctx, &f.accel)
 }
 
 fn verdict(ok: bool) -> &'static str {
@@ -1250,6 +1256,12 @@ fn lead_table(f: &Fidelity) -> String {
         "no air: a torque-free flight, no roll".into(),
         format!("bank at the first touch (§7): {}", rolls.join(", ")),
     ]);
+    let (before, after) = fidelity_accel::lead_words(&f.accel);
+    rows.push(vec![
+        "a bounce needs a peak acceleration of about 4 g (Tang 2021: 3.80 g; §12)".into(),
+        before,
+        after,
+    ]);
     md_table(
         &["reference behaviour", "model before", "model after"],
         &rows,
@@ -1282,6 +1294,7 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&fidelity_grid::section(&f.grid));
     s.push_str(&fidelity_spectral::section(&f.spectral, &f.grid));
     s.push_str(&fidelity_tick::section(&f.tick, &f.spectral));
+    s.push_str(&fidelity_accel::section(&f.accel));
     s
 }
 

@@ -12,6 +12,7 @@
 pub mod accuracy;
 pub mod defaults;
 pub mod fidelity;
+pub mod fidelity_accel;
 pub mod fidelity_air;
 pub mod fidelity_grid;
 pub mod fidelity_limit;

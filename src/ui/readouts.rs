@@ -172,8 +172,9 @@ pub fn contact_kind(c: &ContactEvent, radius: f64) -> ContactKind {
     }
 }
 
-/// The table of contact episodes (`radius`: the stone's half-width, for telling a glide).
-pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
+/// The table of contact episodes (`radius`: the stone's half-width, for telling a glide; `weight`:
+/// the stone's weight in N, for the peak lift in g).
+pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, weight: f64) {
     if contacts.is_empty() {
         ui.weak("no contact yet");
         return;
@@ -184,7 +185,7 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
         .show(ui, |ui| {
             egui::Grid::new("contacts_grid")
                 .striped(true)
-                .num_columns(7)
+                .num_columns(8)
                 .spacing([10.0, 2.0])
                 .show(ui, |ui| {
                     for (h, tip) in [
@@ -200,6 +201,11 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
                         ("slid (m)", "horizontal distance during the contact"),
                         ("v in", "speed at the start (m/s)"),
                         ("β in", "angle of the velocity below the horizontal at the start"),
+                        (
+                            "peak g",
+                            "the water's largest upward push over the stone's weight; Tang et al. \
+                             (2021) saw a spun disc bounce only above 3.8 g",
+                        ),
                     ] {
                         ui.label(RichText::new(h).strong()).on_hover_text(tip);
                     }
@@ -219,6 +225,10 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
                         ui.monospace(format!("{:.2}", slide_distance(c)));
                         ui.monospace(format!("{:.2}", DVec3::from_array(c.v_in).length()));
                         ui.monospace(format!("{:.1}°", c.beta_in));
+                        ui.monospace(
+                            c.peak_g(weight)
+                                .map_or_else(|| "—".to_owned(), |g| format!("{g:.1}")),
+                        );
                         ui.end_row();
                     }
                 });
