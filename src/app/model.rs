@@ -326,7 +326,7 @@ pub struct Ghost {
 pub struct Shown {
     pub readouts: Readouts,
     pub contacts: Vec<crate::sim::ContactEvent>,
-    pub plots: [Vec<egui_plot::PlotPoint>; 3],
+    pub plots: [Vec<egui_plot::PlotPoint>; 4],
     pub plot_end: f64,
     pub timing: FrameTiming,
     pub outcome: Option<String>,
@@ -1152,7 +1152,11 @@ impl Model {
         self.shown = Shown {
             readouts: self.readouts(),
             contacts: self.sim.contacts().to_vec(),
-            plots: self.plots.decimated(400, end),
+            plots: self.plots.decimated(
+                400,
+                end,
+                self.sim.stone().mass * self.sim.preset().physics.gravity,
+            ),
             plot_end: end,
             timing: self.timing,
             outcome: self.sim.outcome().map(outcome_words),

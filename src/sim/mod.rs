@@ -126,6 +126,11 @@ impl ContactEvent {
     }
 }
 
+/// Tang et al. (2021, Phys. Fluids 33, 037101): their spun disc bounced only when the water gave
+/// it an upward acceleration above this many g (a contact's [`ContactEvent::peak_lift`] over the
+/// weight). A reference the app and the fidelity study draw, not a rule of the model.
+pub const TANG_BOUNCE_G: f64 = 3.80;
+
 /// Water volumes of a run (m³).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct WaterSummary {

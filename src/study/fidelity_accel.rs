@@ -23,7 +23,7 @@ use super::table::{md_table, sig, Csv};
 use super::{check_cancel, Ctx, StudyError};
 
 /// Tang et al.'s threshold: a bounce needs an acceleration above this many g.
-pub const TANG_G: f64 = 3.80;
+pub const TANG_G: f64 = crate::sim::TANG_BOUNCE_G;
 
 /// The impact angle of the first-contact sweeps (°): the default throw, released level from
 /// 30 cm at 12 m/s, meets the water at 11°.

@@ -1,12 +1,13 @@
-//! Readouts: the run's numbers, the table of contacts, live plots of height, speed and wetted area
-//! over time, where the frame time goes, and export (trajectory CSV, screenshot).
+//! Readouts: the run's numbers, the table of contacts, live plots of height, speed, wetted area and
+//! the water's lift (against Tang et al. 2021's 3.80 g bounce threshold) over time, where the frame
+//! time goes, and export (trajectory CSV, screenshot).
 
 use egui::{RichText, Ui};
-use egui_plot::{Line, Plot, PlotPoint, PlotPoints};
+use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoint, PlotPoints};
 use glam::DVec3;
 
 use super::{Action, FrameTiming, Readouts};
-use crate::sim::{ContactEvent, StepSample};
+use crate::sim::{ContactEvent, StepSample, TANG_BOUNCE_G};
 
 /// Time series for the plots, thinned: every step in contact, every 2 ms in flight.
 #[derive(Debug, Clone, Default)]
@@ -15,6 +16,8 @@ pub struct PlotSeries {
     pub speed: Vec<PlotPoint>,
     /// cm²
     pub area: Vec<PlotPoint>,
+    /// The water's upward force, N.
+    pub lift: Vec<PlotPoint>,
     last_t: f64,
 }
 
@@ -28,13 +31,23 @@ impl PlotSeries {
         *self = Self::default();
     }
 
-    /// The three series as drawn over [0, end] in `buckets` columns (see [`decimate`]).
-    pub fn decimated(&self, buckets: usize, end: f64) -> [Vec<PlotPoint>; 3] {
+    /// The four series as drawn over [0, end] in `buckets` columns (see [`decimate`]), the lift
+    /// in g of a stone weighing `weight` N (none without gravity).
+    pub fn decimated(&self, buckets: usize, end: f64, weight: f64) -> [Vec<PlotPoint>; 4] {
         let x1 = end.max(0.1);
+        let lift_g: Vec<PlotPoint> = if weight > 0.0 {
+            self.lift
+                .iter()
+                .map(|p| PlotPoint::new(p.x, p.y / weight))
+                .collect()
+        } else {
+            Vec::new()
+        };
         [
             decimate(&self.height, 0.0, x1, buckets),
             decimate(&self.speed, 0.0, x1, buckets),
             decimate(&self.area, 0.0, x1, buckets),
+            decimate(&lift_g, 0.0, x1, buckets),
         ]
     }
 
@@ -48,8 +61,14 @@ impl PlotSeries {
         self.height.push(PlotPoint::new(s.time, p.z));
         self.speed.push(PlotPoint::new(s.time, v.length()));
         self.area.push(PlotPoint::new(s.time, s.wetted_area * 1e4));
+        self.lift.push(PlotPoint::new(s.time, s.force.z));
         if self.height.len() > Self::MAX_POINTS {
-            for series in [&mut self.height, &mut self.speed, &mut self.area] {
+            for series in [
+                &mut self.height,
+                &mut self.speed,
+                &mut self.area,
+                &mut self.lift,
+            ] {
                 let mut i = 0;
                 series.retain(|_| {
                     i += 1;
@@ -270,9 +289,10 @@ pub fn ghosts_ui(ui: &mut Ui, rows: &[GhostRow]) {
         });
 }
 
-/// Height (m), speed (m/s) and wetted area (cm²) over time up to `end`, sharing the time axis
-/// (series as [`PlotSeries::decimated`] gives them).
-pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 3], end: f64) {
+/// Height (m), speed (m/s), wetted area (cm²) and the water's lift (g, with Tang et al.'s bounce
+/// threshold) over time up to `end`, sharing the time axis (series as [`PlotSeries::decimated`]
+/// gives them).
+pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 4], end: f64) {
     let link = egui::Id::unique("stoneskip_plots_x");
     let looks = [
         (
@@ -290,12 +310,14 @@ pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 3], end: f64) {
             "wet (cm²)",
             egui::Color32::from_rgb(140, 230, 140),
         ),
+        ("lift", "lift (g)", egui::Color32::from_rgb(240, 140, 200)),
     ];
     for ((id, label, color), data) in looks.into_iter().zip(series.iter()) {
-        Plot::new(id)
-            .height(if id == "wetted" { 96.0 } else { 82.0 })
+        let last = id == "lift";
+        let plot = Plot::new(id)
+            .height(if last { 96.0 } else { 82.0 })
             .y_axis_label(label)
-            .x_axis_label(if id == "wetted" { "time t (s)" } else { "" })
+            .x_axis_label(if last { "time t (s)" } else { "" })
             .link_axis(link, [true, false])
             .allow_scroll(false)
             .allow_zoom(false)
@@ -303,10 +325,31 @@ pub fn plots_ui(ui: &mut Ui, series: &[Vec<PlotPoint>; 3], end: f64) {
             .include_x(0.0)
             .include_x(end.max(0.1))
             .include_y(0.0)
-            .show_axes([id == "wetted", true])
-            .show(ui, |plot| {
-                plot.line(Line::new(label, PlotPoints::Borrowed(data)).color(color));
-            });
+            .show_axes([last, true]);
+        // The lift's first impact can reach tens of g; up to four times the threshold keeps the
+        // threshold and the later contacts readable (each contact's peak is in the table).
+        let plot = if last {
+            plot.default_y_bounds(-1.0, 4.0 * TANG_BOUNCE_G)
+        } else {
+            plot
+        };
+        let response = plot.show(ui, |plot| {
+            plot.line(Line::new(label, PlotPoints::Borrowed(data)).color(color));
+            if last {
+                plot.hline(
+                    HLine::new("Tang 2021: a bounce needs 3.8 g", TANG_BOUNCE_G)
+                        .color(egui::Color32::GRAY)
+                        .style(LineStyle::dashed_loose()),
+                );
+            }
+        });
+        if last {
+            response.response.on_hover_text(
+                "the water's upward force over the stone's weight; Tang et al. (2021) saw a spun \
+                 disc bounce only when it passed 3.8 g (dashed). Drawn up to about 15 g: a first \
+                 impact's higher peak is in the contact table's peak g column",
+            );
+        }
     }
 }
 
@@ -460,5 +503,31 @@ mod tests {
         assert!(d.windows(2).all(|w| w[0].x <= w[1].x));
         assert!(d.iter().any(|p| p.y == 9.0));
         assert_eq!(d.last().map(|p| p.x), data.last().map(|p| p.x));
+    }
+
+    #[test]
+    fn the_lift_plot_is_the_waters_upward_force_over_the_weight() {
+        let mut plots = PlotSeries::default();
+        for (i, fz) in [0.0, 2.0, 7.5, 0.0].into_iter().enumerate() {
+            plots.push(&StepSample {
+                time: i as f64 * 0.01,
+                state: crate::sim::integrate::BodyState {
+                    position: DVec3::ZERO,
+                    velocity: DVec3::X,
+                    orientation: glam::DQuat::IDENTITY,
+                    angular_momentum: DVec3::ZERO,
+                },
+                angular_velocity: DVec3::ZERO,
+                in_contact: true,
+                wetted_area: 0.0,
+                force: DVec3::new(1.0, 0.0, fz),
+            });
+        }
+        let [height, .., lift] = plots.decimated(400, 0.03, 0.5);
+        assert_eq!(height.len(), 4);
+        let g: Vec<f64> = lift.iter().map(|p| p.y).collect();
+        assert_eq!(g, [0.0, 4.0, 15.0, 0.0]);
+        // Without gravity there is no weight to measure the lift by.
+        assert!(plots.decimated(400, 0.03, 0.0)[3].is_empty());
     }
 }
