@@ -60,8 +60,8 @@ const MODEL: &[(&str, &str, &str)] = &[
     ),
     (
         "Flight",
-        "Exact ballistic motion under gravity; no air drag (a scene of a few seconds does not \
-         need it).",
+        "With the air off, exact ballistic motion under gravity, as in the paper; the shipped \
+         pebbles fly through air (see Air in flight): kick–drift–kick around that exact flight.",
         "the paper, eqs. 4–8",
     ),
     (
@@ -114,6 +114,14 @@ const MODEL: &[(&str, &str, &str)] = &[
          still going at the time limit; diverged when the numbers stop being finite. A skip is a \
          contact that ends with the stone wholly in the air.",
         "Bocquet 2003 (loss of lift); design §4",
+    ),
+    (
+        "Peak g",
+        "The water's largest upward push in a contact over the stone's weight (the contact \
+         table's last column, the lift plot). A spun disc in Tang et al.'s tank bounced only \
+         above 3.8 g; the model has no such rule, but a first contact at the slowest speed that \
+         still skips peaks at 3–8 g.",
+        "Tang et al. 2021; docs/studies/fidelity §12",
     ),
     (
         "Water",
