@@ -39,6 +39,9 @@ fn simulated(data: &[u8]) -> bool {
     simulate::preset(&mut Unstructured::new(data)).is_ok_and(|p| p.validate().is_ok())
 }
 
+/// An input that takes longer than this (s) is named in the progress output.
+const SLOW_INPUT_S: f64 = 60.0;
+
 struct Tally {
     inputs: u64,
     throws: u64,
@@ -64,6 +67,7 @@ fn soak(first: u64, count: u64, budget_s: f64) -> Tally {
         if simulated(&data) {
             t.throws += 1;
         }
+        let began = Instant::now();
         if let Err(e) = std::panic::catch_unwind(|| simulate::run(&data)) {
             let why = e
                 .downcast_ref::<String>()
@@ -73,9 +77,14 @@ fn soak(first: u64, count: u64, budget_s: f64) -> Tally {
             t.failures
                 .push((i, why.lines().next().unwrap_or("").to_owned()));
         }
+        let took = began.elapsed().as_secs_f64();
+        if took > SLOW_INPUT_S {
+            // A run that reads only the progress lines can then tell a slow input from a hang.
+            eprintln!("input {i} took {took:.0} s");
+        }
         if t.inputs.is_multiple_of(1_000) {
             eprintln!(
-                "{} inputs, {} throws, {} failures, {:.0} s",
+                "{} inputs (to index {i}), {} throws, {} failures, {:.0} s",
                 t.inputs,
                 t.throws,
                 t.failures.len(),
