@@ -1,10 +1,11 @@
 //! What sets the step of a planing glide? The shipped default throw with the water off, at a tick
 //! and tolerance given on the command line, every accepted step of the stone traced: its time,
 //! length, whether in contact, the angle θ between the angular momentum and the symmetry axis, and
-//! the speed (docs/studies/kernel.md, "What sets the glide's step"; session 20).
+//! the speed; `locked` holds the attitude, `across` lets the contact steps cross the tick
+//! (`physics.steps_across_ticks`) (docs/studies/kernel.md, "What sets the glide's step"; session 20).
 //!
 //! ```text
-//! cargo run --release --example glide_steps -- 0.05 1e-6 [locked] > steps.txt
+//! cargo run --release --example glide_steps -- 0.005 1e-6 [locked] [across] > steps.txt
 //! ```
 //!
 //! Prints the run's summary to standard error and one line a step to standard output.
@@ -32,9 +33,11 @@ fn main() -> anyhow::Result<()> {
     preset.water.enabled = false;
     preset.physics.dt = dt;
     preset.physics.tolerance = tolerance;
-    if args.get(3).map(String::as_str) == Some("locked") {
+    let flag = |name: &str| args.iter().skip(3).any(|a| a == name);
+    if flag("locked") {
         preset.physics.rotation = Rotation::Locked;
     }
+    preset.physics.steps_across_ticks = flag("across");
     let mut sim = Simulation::new(&preset)?;
     let mut out = String::from("# time_s step_s in_contact theta_deg speed_m_s\n");
     let mut last = 0.0;

@@ -286,6 +286,21 @@ mod tests {
         assert!(e.contains("[0, 1]"), "{e}");
     }
 
+    /// `physics.steps_across_ticks` (numerics): omitted it is false, and it is written only when
+    /// true, so a preset saved without it reads as before; when named it round-trips.
+    #[test]
+    fn steps_across_ticks_is_saved_only_when_set() {
+        let p = Preset::default();
+        assert!(!p.physics.steps_across_ticks);
+        assert!(!to_ron_string(&p).unwrap().contains("steps_across_ticks"));
+        let text = "(\n  physics: (steps_across_ticks: true),\n)";
+        let q = parse(text, Path::new("across.ron")).unwrap();
+        assert!(q.physics.steps_across_ticks);
+        let written = to_ron_string(&q).unwrap();
+        assert!(written.contains("steps_across_ticks: true"), "{written}");
+        assert_eq!(parse(&written, Path::new("rt.ron")).unwrap(), q);
+    }
+
     #[test]
     fn save_is_atomic_and_round_trips() {
         let dir = tempfile::tempdir().unwrap();

@@ -180,6 +180,12 @@ fn near_field(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
     Ok(())
 }
 
+/// `Adaptive`'s contact steps across the tick (session 20), drawn last for the same reason.
+fn numerics(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
+    p.physics.steps_across_ticks = u.arbitrary()?;
+    Ok(())
+}
+
 pub fn preset(u: &mut Unstructured) -> Result<Preset> {
     let mut p = Preset::default();
     stone(u, &mut p)?;
@@ -188,6 +194,7 @@ pub fn preset(u: &mut Unstructured) -> Result<Preset> {
     water(u, &mut p)?;
     options(u, &mut p)?;
     near_field(u, &mut p)?;
+    numerics(u, &mut p)?;
     Ok(p)
 }
 

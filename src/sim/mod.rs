@@ -404,6 +404,9 @@ pub struct Simulation {
     step_water: bool,
     launch_position: DVec3,
     motion: Motion,
+    /// The end of the last tick: the stone's own time, unless `physics.steps_across_ticks` let
+    /// its last step end past it.
+    clock: f64,
     /// The tick begun by [`Simulation::tick_until`] and not yet finished (it yielded inside).
     open_tick: Option<OpenTick>,
     /// [`MAX_EVALS_PER_TICK`] (a field so a unit test can reach it cheaply).
@@ -493,6 +496,7 @@ impl Simulation {
             },
             stone,
             water,
+            clock: 0.0,
             open_tick: None,
             max_evals_per_tick: MAX_EVALS_PER_TICK,
             pending_flush: PENDING_FLUSH,
@@ -533,7 +537,8 @@ impl Simulation {
     pub fn world_from_stone(&self) -> (DVec3, DQuat) {
         (self.motion.state.position, self.motion.state.orientation)
     }
-    /// Simulated time (s).
+    /// Simulated time (s): the stone's, which is the last tick's end unless
+    /// `physics.steps_across_ticks` let its last step end up to one step past it.
     pub fn time(&self) -> f64 {
         self.motion.time
     }
@@ -703,7 +708,7 @@ impl Simulation {
         let tick = self.open_tick.take().unwrap_or_else(|| {
             let dt = self.preset.physics.dt;
             OpenTick {
-                t_end: self.motion.time + dt,
+                t_end: self.clock + dt,
                 dt,
                 steps: 0,
                 evals_start: self.motion.force_evals,
@@ -733,8 +738,10 @@ impl Simulation {
     /// The end of a tick once the stone is at `t_end`: the timeout, then the water's step of `dt`
     /// with the stone's impulses of the tick.
     fn finish_tick(&mut self, t_end: f64, dt: f64) {
-        self.motion.time = t_end;
-        if !self.is_finished() && self.motion.time >= self.preset.physics.max_time - 1e-12 {
+        self.clock = t_end;
+        // A stone whose last step ended past the tick (`steps_across_ticks`) keeps its time.
+        self.motion.time = self.motion.time.max(t_end);
+        if !self.is_finished() && self.clock >= self.preset.physics.max_time - 1e-12 {
             self.finish(Outcome::Timeout);
         }
         self.deposit_pending();
@@ -927,7 +934,12 @@ impl Simulation {
             let prev = self.motion.state;
             let t0 = self.motion.time;
             let h_max = t_end - t0;
-            let step = self.take_step(h_max);
+            let h_contact = if self.steps_across_ticks() {
+                (self.preset.physics.max_time - t0).max(h_max)
+            } else {
+                h_max
+            };
+            let step = self.take_step(h_max, h_contact);
             if !step.state.is_finite() || !self.energy_of(&step.state).is_finite() {
                 // A diverging explicit scheme (e.g. Paper at a huge step): stop at the last finite
                 // state rather than report NaN. A state can stay finite while its energy overflows
@@ -954,7 +966,9 @@ impl Simulation {
                 }
             }
             self.motion.state = step.state;
-            self.motion.time = if step.h >= h_max { t_end } else { t0 + step.h };
+            // A step to the tick's end ends exactly there; one past it (`steps_across_ticks`)
+            // where it ends.
+            self.motion.time = if step.h == h_max { t_end } else { t0 + step.h };
             self.motion.steps += 1;
             self.motion.last_force = step.force;
             self.after_step(&prev, step.h, step.sunk, on_step);
@@ -962,9 +976,19 @@ impl Simulation {
         StoneProgress::Reached
     }
 
-    /// One step of at most `h_max` with the preset's integrator: exact flight, or a contact step
-    /// whose forces and face loads (in the scratch) are those of its end.
-    fn take_step(&mut self, h_max: f64) -> Step {
+    /// Whether `Adaptive`'s contact steps may end past the tick: the preset asks for it and no
+    /// water takes the stone's loads (nothing is coupled at the tick's end).
+    fn steps_across_ticks(&self) -> bool {
+        let physics = &self.preset.physics;
+        physics.steps_across_ticks
+            && physics.integrator == Integrator::Adaptive
+            && !self.water_takes_loads()
+    }
+
+    /// One step with the preset's integrator: exact flight of at most `h_max`, or a contact step
+    /// of at most `h_contact` (`Adaptive`; the fixed-step schemes take `h_max`) whose forces and
+    /// face loads (in the scratch) are those of its end.
+    fn take_step(&mut self, h_max: f64, h_contact: f64) -> Step {
         let physics = self.preset.physics;
         let surface = SurfaceRef::new(
             &self.water,
@@ -992,7 +1016,7 @@ impl Simulation {
         let m = &mut self.motion;
         let prev = m.state;
         let step = match physics.integrator {
-            Integrator::Adaptive => adaptive_step(&cx, m, h_max),
+            Integrator::Adaptive => adaptive_step(&cx, m, h_max, h_contact),
             _ => fixed_step(&cx, m, h_max),
         };
         match step.k1 {
@@ -1471,8 +1495,8 @@ fn locate_sink(cx: &StepContext, m: &mut Motion, prev: &BodyState, k1: &Deriv, s
 }
 
 /// One Adaptive step: exact flight to `h_max` or to the first touch; error-controlled
-/// Dormand–Prince steps in contact.
-fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
+/// Dormand–Prince steps of at most `h_contact` in contact.
+fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64, h_contact: f64) -> Step {
     let dy = &cx.dy;
     let s = m.state;
     if !m.in_contact && cx.clear(&s) > 0.0 {
@@ -1494,7 +1518,7 @@ fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
         m.h_adaptive = 0.01 * dy.stone.bounding_radius / s.velocity.length().max(0.1);
     }
     let h_min = 1e-10;
-    let mut h = m.h_adaptive.min(h_max);
+    let mut h = m.h_adaptive.min(h_contact);
     let c0 = cx.clear(&s).min(0.0);
     let mut exit_refinements = 0;
     loop {
@@ -1521,7 +1545,7 @@ fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
             };
             // A step clipped by the tick boundary or shortened to the exit keeps the
             // controller's earlier proposal.
-            let clipped = (h >= h_max && m.h_adaptive > h_max) || exit_refinements > 0;
+            let clipped = (h >= h_contact && m.h_adaptive > h_contact) || exit_refinements > 0;
             if !clipped || grow < 1.0 {
                 m.h_adaptive = (h * grow).max(h_min);
             }
@@ -1766,6 +1790,84 @@ mod tests {
         assert!(!sim.skip_unread_water());
         sim.tick();
         assert!(sim.summary().water.unwrap().stepped);
+    }
+
+    /// `steps_across_ticks` (numerics): with no water taking the stone's loads, the contact steps
+    /// end past the tick, so the same throw takes fewer force evaluations. It is the same equation
+    /// solved to the same tolerance, so both runs keep the skips and land within the integration
+    /// error of a tight-tolerance run: at most the sum of the local errors, each at most the
+    /// tolerance (relative to the error norm's scales), so `steps × tolerance` relative.
+    #[test]
+    fn steps_across_ticks_take_fewer_evaluations_for_the_same_throw() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        p.physics.max_time = 10.0;
+        let run = |across: bool, tolerance: f64| {
+            let mut q = p.clone();
+            q.physics.steps_across_ticks = across;
+            q.physics.tolerance = tolerance;
+            simulate(&q).unwrap()
+        };
+        let (tick, across, tight) = (run(false, 1e-6), run(true, 1e-6), run(false, 1e-10));
+        assert_eq!(tight.outcome, Some(Outcome::Sank), "{tight:?}");
+        assert!(tight.skips >= 2, "{tight:?}");
+        for s in [&tick, &across] {
+            assert_eq!((s.outcome, s.skips), (tight.outcome, tight.skips), "{s:?}");
+            let error = (s.distance - tight.distance).abs() / tight.distance;
+            assert!(
+                error <= s.steps as f64 * 1e-6,
+                "error {error} over {} steps",
+                s.steps
+            );
+        }
+        assert!(
+            (across.force_evals as f64) < 0.9 * tick.force_evals as f64,
+            "{} against {}",
+            across.force_evals,
+            tick.force_evals
+        );
+    }
+
+    /// Across ticks the clock still keeps the ticks (its n-th tick ends at n dt) and the stone is
+    /// at or ahead of it by less than its longest step; with a lake that takes the loads (the
+    /// app's case: the rings) the option changes nothing, bit for bit.
+    #[test]
+    fn steps_across_ticks_keep_the_clock_and_leave_a_coupled_run_alone() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        p.physics.steps_across_ticks = true;
+        let dt = p.physics.dt;
+        let mut sim = Simulation::new(&p).unwrap();
+        let (mut ticks, mut ahead, mut longest) = (0u32, 0u32, 0.0f64);
+        while !sim.is_finished() {
+            let mut last = sim.time();
+            sim.tick_with(&mut |s| {
+                longest = longest.max(s.time - last);
+                last = s.time;
+            });
+            ticks += 1;
+            assert!((sim.clock - f64::from(ticks) * dt).abs() < 1e-9 * f64::from(ticks));
+            assert!(sim.time() >= sim.clock && sim.time() - sim.clock < longest.max(dt));
+            ahead += u32::from(sim.time() > sim.clock);
+        }
+        assert!(
+            ahead > 0 && longest > dt,
+            "{ahead} ticks ahead, longest step {longest}"
+        );
+
+        let mut q = Preset::default();
+        q.physics.max_time = 1.0;
+        let run = |across: bool| {
+            let mut r = q.clone();
+            r.physics.steps_across_ticks = across;
+            Simulation::new(&r).unwrap().run(&mut |_| {}, &|| false)
+        };
+        let (on, off) = (run(true), run(false));
+        assert!(
+            on.skips >= 1 && on.water.as_ref().is_some_and(|w| w.stepped),
+            "{on:?}"
+        );
+        assert_eq!(on, off);
     }
 
     /// A step whose forces overflow (the velocity of an explicit scheme run far past its stability

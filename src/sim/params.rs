@@ -345,6 +345,13 @@ pub struct Physics {
     pub dt: f64,
     /// s
     pub max_time: f64,
+    /// Numerics, not physics: `Adaptive`'s contact steps may end past the tick's end when no water
+    /// takes the stone's loads (water off, or a headless run that leaves it at rest), so the tick
+    /// no longer caps the step; the stone then runs up to one step ahead of the tick. Omitted:
+    /// false, every step inside its tick (docs/studies/kernel.md, "What sets the glide's step").
+    /// Saved only when true, so a preset that never set it reads as it did.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub steps_across_ticks: bool,
 }
 
 impl Default for Physics {
@@ -367,6 +374,7 @@ impl Default for Physics {
             air: None,
             dt: 0.005,
             max_time: 20.0,
+            steps_across_ticks: false,
         }
     }
 }

@@ -602,6 +602,16 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 "Adaptive's relative error per step",
                 |ui| ui.add(slider(&mut physics.tolerance, 1e-10..=1e-3).logarithmic(true)),
             );
+            label_ui(
+                ui,
+                marks,
+                &["steps across ticks"],
+                "Steps across ticks",
+                "Contact steps may end past the tick when no water takes the stone's loads (water \
+                 off): fewer force evaluations, the stone up to one step ahead of the tick",
+            );
+            c |= ui.checkbox(&mut physics.steps_across_ticks, "").changed();
+            ui.end_row();
         }
         c |= choice_row_ui(
             ui,
@@ -1399,6 +1409,7 @@ mod tests {
             Hydrostatic::LoadedFaces => Hydrostatic::WettedFaces,
         };
         ph.tolerance *= 10.0;
+        ph.steps_across_ticks = true;
         ph.air = Some(AirParams::default());
         ph.pressure_centre = PressureCentre::Planing(0.5);
         ph.axial_spin = match ph.axial_spin {
@@ -1430,7 +1441,7 @@ mod tests {
             section_differences(&p.water, &w),
         ];
         let counts: Vec<usize> = d.iter().map(Vec::len).collect();
-        assert_eq!(counts, [13, 5, 14, 14], "{d:?}");
+        assert_eq!(counts, [13, 5, 15, 14], "{d:?}");
         let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
         draw(|ui| {
             launch_ui(ui, &mut l, &m[0]);
