@@ -1,6 +1,7 @@
 //! Whole throws without water: the cost of the stone's physics alone. Prints, for each preset,
 //! how many times faster than real time a throw runs (simulated seconds / wall seconds) and the
-//! force evaluations it takes.
+//! force evaluations it takes; each preset also with `physics.steps_across_ticks` (its steps free
+//! of the tick, `name+across`), side by side in the same run.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -27,28 +28,38 @@ fn throws(c: &mut Criterion) {
         "record_throw",
         "clanet_disc",
     ] {
-        let p = preset(name);
-        // The real-time ratio, measured once outside criterion so it can be printed.
-        let reps = 5;
-        let start = Instant::now();
-        let mut s = simulate(&p).expect("runs");
-        for _ in 1..reps {
-            s = simulate(&p).expect("runs");
-        }
-        let wall = start.elapsed().as_secs_f64() / reps as f64;
-        println!(
-            "{name}: {:.3} s simulated in {:.2} ms: {:.0}x real time; {} skips, {} steps, {} force evaluations ({:.2} us each incl. stepping)",
-            s.final_time,
-            wall * 1e3,
-            s.final_time / wall,
-            s.skips,
-            s.steps,
-            s.force_evals,
-            wall * 1e6 / s.force_evals.max(1) as f64
-        );
-        group.bench_function(name, |b| b.iter(|| simulate(black_box(&p))));
+        let mut across = preset(name);
+        across.physics.steps_across_ticks = true;
+        measure(&mut group, name, &preset(name));
+        measure(&mut group, &format!("{name}+across"), &across);
     }
     group.finish();
+}
+
+fn measure(
+    group: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>,
+    name: &str,
+    p: &Preset,
+) {
+    // The real-time ratio, measured once outside criterion so it can be printed.
+    let reps = 5;
+    let start = Instant::now();
+    let mut s = simulate(p).expect("runs");
+    for _ in 1..reps {
+        s = simulate(p).expect("runs");
+    }
+    let wall = start.elapsed().as_secs_f64() / reps as f64;
+    println!(
+        "{name}: {:.3} s simulated in {:.2} ms: {:.0}x real time; {} skips, {} steps, {} force evaluations ({:.2} us each incl. stepping)",
+        s.final_time,
+        wall * 1e3,
+        s.final_time / wall,
+        s.skips,
+        s.steps,
+        s.force_evals,
+        wall * 1e6 / s.force_evals.max(1) as f64
+    );
+    group.bench_function(name, |b| b.iter(|| simulate(black_box(p))));
 }
 
 criterion_group!(benches, throws);

@@ -665,6 +665,9 @@ pub struct Dp5Step {
     pub error: f64,
     /// Force evaluations used.
     pub evals: u64,
+    /// The earliest stage (as a fraction of the step) at which no vertex touched the water, if
+    /// any: a contact step whose stages leave the water may hide an exit and re-entry.
+    pub first_dry: Option<f64>,
 }
 
 /// One Dormand–Prince 5(4) attempt from `s` with first stage `k1` (already known). The stage at
@@ -678,20 +681,29 @@ pub fn step_dp5(
     scales: &ErrorScales,
     scratch: &mut Scratch,
 ) -> Dp5Step {
-    let _ = C;
-    let (k2, _) = dy.derivative(&s.combine(h, &[(A2[0], k1)]), scratch, false);
-    let (k3, _) = dy.derivative(&s.combine(h, &[(A3[0], k1), (A3[1], &k2)]), scratch, false);
-    let (k4, _) = dy.derivative(
+    let mut first_dry = None;
+    let mut dry = |stage: usize, f: &ForceSum| {
+        if !f.in_contact && first_dry.is_none() {
+            first_dry = Some(C[stage]);
+        }
+    };
+    let (k2, f2) = dy.derivative(&s.combine(h, &[(A2[0], k1)]), scratch, false);
+    dry(1, &f2);
+    let (k3, f3) = dy.derivative(&s.combine(h, &[(A3[0], k1), (A3[1], &k2)]), scratch, false);
+    dry(2, &f3);
+    let (k4, f4) = dy.derivative(
         &s.combine(h, &[(A4[0], k1), (A4[1], &k2), (A4[2], &k3)]),
         scratch,
         false,
     );
-    let (k5, _) = dy.derivative(
+    dry(3, &f4);
+    let (k5, f5) = dy.derivative(
         &s.combine(h, &[(A5[0], k1), (A5[1], &k2), (A5[2], &k3), (A5[3], &k4)]),
         scratch,
         false,
     );
-    let (k6, _) = dy.derivative(
+    dry(4, &f5);
+    let (k6, f6) = dy.derivative(
         &s.combine(
             h,
             &[
@@ -705,6 +717,7 @@ pub fn step_dp5(
         scratch,
         false,
     );
+    dry(5, &f6);
     let state = s.combine(
         h,
         &[
@@ -739,6 +752,7 @@ pub fn step_dp5(
         force_end,
         error,
         evals: 6,
+        first_dry,
     }
 }
 

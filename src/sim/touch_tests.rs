@@ -195,6 +195,7 @@ fn with_context<R>(sim: &Simulation, f: impl FnOnce(&StepContext) -> R) -> R {
         tolerance: physics.tolerance,
         slope: surface.max_slope(),
         air: sim.air,
+        hidden_exits: false,
     };
     f(&cx)
 }
