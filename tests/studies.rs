@@ -18,6 +18,7 @@ fn setting(integrator: Integrator, dt: f64, tolerance: f64) -> Setting {
         integrator,
         dt,
         tolerance,
+        across: false,
     }
 }
 

@@ -129,6 +129,8 @@ pub struct Setting {
     pub integrator: Integrator,
     pub dt: f64,
     pub tolerance: f64,
+    /// Adaptive's contact steps free of the tick (`physics.steps_across_ticks`).
+    pub across: bool,
 }
 
 impl Setting {
@@ -141,7 +143,9 @@ impl Setting {
         }
     }
     pub fn describe(&self) -> String {
-        if self.integrator == Integrator::Adaptive {
+        if self.integrator == Integrator::Adaptive && self.across {
+            format!("tol {}, across ticks", sig(self.tolerance, 1))
+        } else if self.integrator == Integrator::Adaptive {
             format!("tol {}, tick {} s", sig(self.tolerance, 1), sig(self.dt, 1))
         } else {
             format!("dt {} s", sig(self.dt, 2))
@@ -150,7 +154,9 @@ impl Setting {
 
     /// The curve a setting belongs to: the integrator, and for Adaptive its tick.
     pub fn family(&self) -> String {
-        if self.integrator == Integrator::Adaptive {
+        if self.integrator == Integrator::Adaptive && self.across {
+            "Adaptive, across ticks".to_string()
+        } else if self.integrator == Integrator::Adaptive {
             format!("Adaptive, tick {} ms", sig(1e3 * self.dt, 2))
         } else {
             integrator_name(self.integrator).to_string()
@@ -159,6 +165,7 @@ impl Setting {
 
     pub fn color(&self) -> Rgb {
         match self.integrator {
+            Integrator::Adaptive if self.across => colors::BLACK,
             Integrator::Adaptive if self.dt > 0.02 => colors::PURPLE,
             Integrator::Adaptive if self.dt > 1e-3 => colors::SKY,
             i => integrator_color(i),
@@ -207,6 +214,7 @@ pub fn settings(quick: bool) -> Vec<Setting> {
                 integrator,
                 dt,
                 tolerance: 1e-6,
+                across: false,
             });
         }
     }
@@ -224,8 +232,18 @@ pub fn settings(quick: bool) -> Vec<Setting> {
                 integrator: Integrator::Adaptive,
                 dt,
                 tolerance,
+                across: false,
             });
         }
+    }
+    // The shipped tick with the contact steps free of it (`physics.steps_across_ticks`).
+    for &tolerance in &tols {
+        v.push(Setting {
+            integrator: Integrator::Adaptive,
+            dt: shipped_tick(),
+            tolerance,
+            across: true,
+        });
     }
     v
 }
@@ -244,7 +262,9 @@ pub fn families(settings: &[Setting]) -> Vec<(String, Rgb)> {
 
 /// A throw's preset with a setting.
 pub fn throw_preset(t: &Throw, s: &Setting) -> Result<Preset, StudyError> {
-    throws::preset(t, &throws::base(s.integrator, s.dt, s.tolerance))
+    let mut base = throws::base(s.integrator, s.dt, s.tolerance);
+    base.physics.steps_across_ticks = s.across;
+    throws::preset(t, &base)
 }
 
 /// The converged reference of a throw and its check.
@@ -265,11 +285,13 @@ pub fn reference(t: &Throw, quick: bool) -> Result<Reference, StudyError> {
         integrator: Integrator::Adaptive,
         dt: REF_TICK,
         tolerance: REF_TOLERANCE,
+        across: false,
     };
     let r = Setting {
         integrator: Integrator::Rk4,
         dt: rk4_dt,
         tolerance: 1e-6,
+        across: false,
     };
     let (adaptive, rk4) = rayon::join(
         || measure(&throw_preset(t, &a)?),

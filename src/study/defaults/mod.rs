@@ -256,6 +256,7 @@ fn references(ctx: &Ctx) -> Result<Vec<(Throw, accuracy::RunStats)>, StudyError>
             integrator: Integrator::Adaptive,
             dt: REF_TICK,
             tolerance: REF_TOLERANCE,
+            across: false,
         };
         refs.push((*t, measure(&throw_preset(t, &s)?)?));
     }
@@ -276,6 +277,7 @@ fn adaptive_grid(
                 integrator: Integrator::Adaptive,
                 dt,
                 tolerance,
+                across: false,
             })
         })
         .collect();
@@ -307,6 +309,7 @@ fn fixed_sweeps(
                 integrator: i,
                 dt,
                 tolerance: 1e-6,
+                across: false,
             })
             .collect();
         let pts = knob_sweep(refs, &set, |s| s.dt)?;
