@@ -3,7 +3,8 @@
 //! better schemes), and the O'Brien–Hodgins column-and-pipe water (paper §3.3, eqs. 39–41).
 //!
 //! [`Simulation`] advances in ticks of `physics.dt` (Adaptive sub-steps inside a tick, never across
-//! one). The time step is a parameter, never read from a clock, and nothing is random: the same
+//! one, unless `physics.steps_across_ticks` and no water takes the stone's loads: then its contact
+//! steps may end past the tick, the pose drawn at the tick interpolated inside them). The time step is a parameter, never read from a clock, and nothing is random: the same
 //! preset gives bit-identical results. A tick may be split between two steps of the stone and
 //! resumed ([`Simulation::tick_until`], the app's cost guard) without changing a bit. Depends on
 //! glam, serde, thiserror and rayon only; knows nothing of frames, windows or wall-clock time.
@@ -11,8 +12,10 @@
 //! Events are located, not sampled at step ends: the first touch along the exact flight (its
 //! clearance bounded along the torque-free motion and over the waves, so a tumbling stone's or a
 //! crest's graze inside a tick is found), the exit, and the sinking instant inside the step that
-//! sinks. A step reports the forces of its end, and the water receives the stone's whole impulse,
-//! vertical and horizontal (Newton's third law, to rounding).
+//! sinks (and, across ticks, a step that leaves the water at one of its stages is retried up to
+//! that stage, so a hop shorter than the step is found). A step reports the forces of its end, and
+//! the water receives the stone's whole impulse, vertical and horizontal (Newton's third law, to
+//! rounding).
 
 pub mod air;
 pub mod contact;
