@@ -28,9 +28,10 @@ fn throws(c: &mut Criterion) {
         "record_throw",
         "clanet_disc",
     ] {
-        let mut across = preset(name);
+        let plain = preset(name);
+        let mut across = plain.clone();
         across.physics.steps_across_ticks = true;
-        measure(&mut group, name, &preset(name));
+        measure(&mut group, name, &plain);
         measure(&mut group, &format!("{name}+across"), &across);
     }
     group.finish();

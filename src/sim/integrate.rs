@@ -52,7 +52,7 @@ impl Deriv {
     };
 }
 
-fn q4(q: DQuat) -> DVec4 {
+pub(super) fn q4(q: DQuat) -> DVec4 {
     DVec4::new(q.x, q.y, q.z, q.w)
 }
 

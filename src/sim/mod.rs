@@ -4,8 +4,9 @@
 //!
 //! [`Simulation`] advances in ticks of `physics.dt` (Adaptive sub-steps inside a tick, never across
 //! one, unless `physics.steps_across_ticks` and no water takes the stone's loads: then its contact
-//! steps may end past the tick, the pose drawn at the tick interpolated inside them). The time step is a parameter, never read from a clock, and nothing is random: the same
-//! preset gives bit-identical results. A tick may be split between two steps of the stone and
+//! steps may end past the tick, the pose drawn at the tick interpolated inside them). The time
+//! step is a parameter, never read from a clock, and nothing is random: the same preset gives
+//! bit-identical results. A tick may be split between two steps of the stone and
 //! resumed ([`Simulation::tick_until`], the app's cost guard) without changing a bit. Depends on
 //! glam, serde, thiserror and rayon only; knows nothing of frames, windows or wall-clock time.
 //!
@@ -41,7 +42,7 @@ use hydro::{
     Surface,
 };
 use integrate::{
-    first_touch, fly, mesh_orientation, resal_applies, step_dp5, step_paper, step_rk4,
+    first_touch, fly, mesh_orientation, q4, resal_applies, step_dp5, step_paper, step_rk4,
     step_symplectic_euler, BodyState, Deriv, Dynamics, ErrorScales, FlightBound, RevolutionBound,
     WaveBound,
 };
@@ -544,7 +545,9 @@ impl Simulation {
     /// tick, interpolated inside that step (for drawing at the tick's time).
     pub fn world_from_stone(&self) -> (DVec3, DQuat) {
         match self.overshoot {
-            Some(o) if self.clock > o.t0 && self.clock < o.t1 => o.pose_at(self.clock),
+            Some(o) if self.clock > o.t0 && self.clock < self.motion.time => {
+                o.pose_at(self.clock, self.motion.time, &self.motion.state)
+            }
             _ => (self.motion.state.position, self.motion.state.orientation),
         }
     }
@@ -981,8 +984,6 @@ impl Simulation {
                     t0,
                     s0: prev,
                     d0,
-                    t1: t0 + step.h,
-                    s1: step.state,
                     d1,
                 }),
                 _ => None,
@@ -1209,42 +1210,41 @@ fn first_wet(lo: f64, hi: f64, iterations: u32, wet: impl Fn(f64) -> bool) -> f6
     hi
 }
 
-/// One accepted step of the stone.
-/// A contact step that ended past the tick's end (`steps_across_ticks`): its two ends and the
-/// derivatives there.
+/// A contact step that ended past the tick's end (`steps_across_ticks`): its start and the
+/// derivatives at both ends. Its end is the stone's current state and time, which stay so until
+/// the next step replaces this.
 #[derive(Debug, Clone, Copy)]
 struct Overshoot {
     t0: f64,
     s0: BodyState,
     d0: Deriv,
-    t1: f64,
-    s1: BodyState,
     d1: Deriv,
 }
 
 impl Overshoot {
-    /// Position and orientation at `t` inside the step: cubic Hermite on its ends' values and
-    /// derivatives (third order; the orientation renormalised), for drawing only.
-    fn pose_at(&self, t: f64) -> (DVec3, DQuat) {
-        let h = self.t1 - self.t0;
+    /// Position and orientation at `t` inside the step that ends at `t1` in `s1`: cubic Hermite
+    /// on its ends' values and derivatives (third order; the orientation renormalised), for
+    /// drawing only.
+    fn pose_at(&self, t: f64, t1: f64, s1: &BodyState) -> (DVec3, DQuat) {
+        let h = t1 - self.t0;
         let x = (t - self.t0) / h;
         let (x2, x3) = (x * x, x * x * x);
         let (h00, h10) = (2.0 * x3 - 3.0 * x2 + 1.0, x3 - 2.0 * x2 + x);
         let (h01, h11) = (-2.0 * x3 + 3.0 * x2, x3 - x2);
         let position = self.s0.position * h00
             + self.d0.dx * (h * h10)
-            + self.s1.position * h01
+            + s1.position * h01
             + self.d1.dx * (h * h11);
-        let q = |q: DQuat| glam::DVec4::new(q.x, q.y, q.z, q.w);
-        let v = q(self.s0.orientation) * h00
+        let v = q4(self.s0.orientation) * h00
             + self.d0.dq * (h * h10)
-            + q(self.s1.orientation) * h01
+            + q4(s1.orientation) * h01
             + self.d1.dq * (h * h11);
         let orientation = DQuat::from_xyzw(v.x, v.y, v.z, v.w).normalize();
         (position, orientation)
     }
 }
 
+/// One accepted step of the stone.
 struct Step {
     state: BodyState,
     h: f64,
