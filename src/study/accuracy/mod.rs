@@ -21,7 +21,10 @@ use super::table::sig;
 use super::throws::{self, throw_list, Throw};
 use super::{check_cancel, logspace, rel_err, Ctx, StudyError};
 
+mod front;
 mod report;
+
+pub use front::{Front, FrontPoint};
 
 /// Error floor for log axes: an exact match is drawn here.
 pub const FLOOR: f64 = 1e-12;
@@ -718,6 +721,8 @@ pub struct Results {
     pub mesh: Vec<MeshPoint>,
     pub bands: Vec<BandsPoint>,
     pub water: Vec<WaterPoint>,
+    /// The stone-only default's real time against error (`front.rs`).
+    pub front: Front,
 }
 
 /// Computes the integrator sweeps of every throw.
@@ -748,12 +753,14 @@ pub fn compute(ctx: &Ctx) -> Result<Results, StudyError> {
     let mesh = mesh_sweep(ctx, &throw_list(ctx.quick))?;
     let bands = bands_sweep(ctx, &throw_list(ctx.quick))?;
     let water = water_sweep(ctx)?;
+    let front = front::front_sweep(ctx)?;
     Ok(Results {
         references,
         points,
         mesh,
         bands,
         water,
+        front,
     })
 }
 

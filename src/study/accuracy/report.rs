@@ -21,7 +21,9 @@ pub fn write(ctx: &Ctx, res: &Results) -> Result<(), StudyError> {
     ctx.write_csv("mesh.csv", &mesh_csv(res))?;
     ctx.write_csv("mesh_bands.csv", &bands_csv(res))?;
     ctx.write_csv("water.csv", &water_csv(res))?;
+    ctx.write_csv("front.csv", &super::front::front_csv(&res.front))?;
     integrator_charts(ctx, res)?;
+    super::front::front_chart(ctx, &res.front)?;
     mesh_chart(ctx, res)?;
     water_chart(ctx, res)?;
     ctx.write("README.md", &report(ctx, res))
@@ -469,6 +471,7 @@ fn report(ctx: &Ctx, res: &Results) -> String {
     s.push_str(&mesh_md(ctx, res));
     s.push_str(&bands_md(ctx, res));
     s.push_str(&water_md(ctx, res));
+    s.push_str(&super::front::front_md(ctx, &res.front));
     s
 }
 

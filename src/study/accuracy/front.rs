@@ -1,0 +1,522 @@
+//! Real time against error on the shipped default throw, stone only (issue 12): the throw of
+//! `assets/presets/default.ron` with the water off — free rotation, the smooth Résal spin,
+//! Archimedes on the wetted faces, the air in flight — run at every mesh × tolerance × step
+//! setting of [`front_settings`], each timed alone (one run at a time, so no other shares the
+//! core; the best of [`repeats`] rounds over all the settings), against a fine mesh at a tight
+//! tolerance. The cost axis is real time (simulated seconds per wall second), the one the issue's
+//! 300× goal is stated in; the force evaluations are the noise-free companion. Work-precision
+//! charts after Hairer, Nørsett & Wanner, *Solving ODEs I* §II.10.
+
+use crate::sim::params::Preset;
+use crate::sim::stone::Stone;
+
+use super::{errors, measure, shipped_default, Errors, RunStats, FLOOR};
+use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
+use crate::study::style::colors;
+use crate::study::table::{md_table, pct, sig, Csv};
+use crate::study::{check_cancel, Ctx, StudyError};
+
+/// The issue's real-time goal for this throw (issue 12).
+pub const GOAL: f64 = 300.0;
+
+/// One setting of the sweep and its run.
+#[derive(Debug, Clone)]
+pub struct FrontPoint {
+    pub segments: u32,
+    pub bands: u32,
+    pub triangles: usize,
+    pub tolerance: f64,
+    /// `physics.steps_across_ticks`.
+    pub across: bool,
+    /// The run; its `wall` is the best of the repeats.
+    pub stats: RunStats,
+    pub err: Errors,
+}
+
+impl FrontPoint {
+    /// Simulated seconds per wall-clock second.
+    pub fn real_time(&self) -> f64 {
+        self.stats.final_time / self.stats.wall.max(1e-9)
+    }
+
+    /// Within 1 % of the reference in distance, with its skips.
+    pub fn within_one_percent(&self) -> bool {
+        self.err.skips == 0 && self.err.distance < 0.01
+    }
+}
+
+/// The sweep: the reference run and every setting.
+#[derive(Debug, Clone)]
+pub struct Front {
+    /// (segments, bands, tolerance) of the reference (tick-bound steps).
+    pub reference_setting: (u32, u32, f64),
+    pub reference: RunStats,
+    pub points: Vec<FrontPoint>,
+    /// The shipped throw's own mesh and tolerance (its steps tick-bound).
+    pub shipped: (u32, u32, f64),
+}
+
+/// What the sweep runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrontSettings {
+    /// (segments, bands).
+    pub meshes: Vec<(u32, u32)>,
+    pub tolerances: Vec<f64>,
+    /// The reference's segments, bands and tolerance (tick-bound steps).
+    pub reference: (u32, u32, f64),
+}
+
+/// The meshes and tolerances swept, and the reference's mesh and tolerance.
+pub fn front_settings(quick: bool) -> FrontSettings {
+    if quick {
+        FrontSettings {
+            meshes: vec![(16, 8)],
+            tolerances: vec![1e-6, 1e-4],
+            reference: (24, 12, 1e-7),
+        }
+    } else {
+        FrontSettings {
+            meshes: vec![(32, 16), (32, 32), (48, 24), (48, 32), (64, 32), (96, 48)],
+            tolerances: vec![1e-6, 1e-5, 1e-4, 1e-3],
+            reference: (192, 96, 1e-8),
+        }
+    }
+}
+
+/// Wall-clock runs per setting; the best is kept (the others only confirm the same result).
+pub fn repeats(quick: bool) -> usize {
+    if quick {
+        1
+    } else {
+        5
+    }
+}
+
+/// The shipped default throw with the water off, at a mesh, tolerance and step rule.
+fn setting(base: &Preset, segments: u32, bands: u32, tolerance: f64, across: bool) -> Preset {
+    let mut p = base.clone();
+    p.stone.segments = segments;
+    p.stone.bands = Some(bands);
+    p.physics.tolerance = tolerance;
+    p.physics.steps_across_ticks = across;
+    p
+}
+
+/// Keeps the faster of two runs of the same setting; an error if they differ otherwise (they must
+/// not: the same preset gives the same bits).
+fn keep_faster(best: &mut RunStats, again: RunStats) -> Result<(), StudyError> {
+    if again.distance.to_bits() != best.distance.to_bits() || again.force_evals != best.force_evals
+    {
+        return Err(StudyError::Failed(format!(
+            "real time against error: two runs of the same setting differ ({} and {} m)",
+            best.distance, again.distance
+        )));
+    }
+    if again.wall < best.wall {
+        *best = again;
+    }
+    Ok(())
+}
+
+/// Runs the reference and every setting, one at a time (so each has the core to itself), in
+/// [`repeats`] rounds over all the settings, so that a slow spell of the machine spreads over
+/// many settings instead of one setting's every run.
+pub fn front_sweep(ctx: &Ctx) -> Result<Front, StudyError> {
+    let base = shipped_default()
+        .map(|mut p| {
+            p.water.enabled = false;
+            p
+        })
+        .ok_or_else(|| StudyError::Failed("assets/presets/default.ron does not load".into()))?;
+    let shipped = (
+        base.stone.segments,
+        crate::sim::stone::lens_bands(base.stone.segments, base.stone.bands),
+        base.physics.tolerance,
+    );
+    let FrontSettings {
+        meshes,
+        tolerances,
+        reference: (rs, rb, rt),
+    } = front_settings(ctx.quick);
+    ctx.progress(&format!(
+        "real time against error: the stone-only default, reference {rs} × {rb} at {rt:e}"
+    ));
+    let reference = measure(&setting(&base, rs, rb, rt, false))?;
+    let mut cases = Vec::new();
+    for &(segments, bands) in &meshes {
+        let triangles = Stone::new(&setting(&base, segments, bands, 1e-6, false).stone)?
+            .mesh
+            .triangles
+            .len();
+        for &tolerance in &tolerances {
+            for across in [false, true] {
+                let p = setting(&base, segments, bands, tolerance, across);
+                cases.push((segments, bands, triangles, tolerance, across, p));
+            }
+        }
+    }
+    let mut best: Vec<Option<RunStats>> = vec![None; cases.len()];
+    for round in 0..repeats(ctx.quick) {
+        ctx.progress(&format!("  round {} of {}", round + 1, repeats(ctx.quick)));
+        for (case, slot) in cases.iter().zip(best.iter_mut()) {
+            check_cancel()?;
+            let run = measure(&case.5)?;
+            match slot {
+                Some(b) => keep_faster(b, run)?,
+                None => *slot = Some(run),
+            }
+        }
+    }
+    let points = cases
+        .into_iter()
+        .zip(best)
+        .filter_map(
+            |((segments, bands, triangles, tolerance, across, _), stats)| {
+                let stats = stats?;
+                let err = errors(&stats, &reference);
+                Some(FrontPoint {
+                    segments,
+                    bands,
+                    triangles,
+                    tolerance,
+                    across,
+                    stats,
+                    err,
+                })
+            },
+        )
+        .collect();
+    Ok(Front {
+        reference_setting: (rs, rb, rt),
+        reference,
+        points,
+        shipped,
+    })
+}
+
+/// The settings no other setting beats on both real time and distance error (skips wrong count
+/// as 100 %), fastest first.
+pub fn pareto(points: &[FrontPoint]) -> Vec<&FrontPoint> {
+    let err = |p: &FrontPoint| {
+        if p.err.skips != 0 {
+            1.0
+        } else {
+            p.err.distance
+        }
+    };
+    let mut out: Vec<&FrontPoint> = points
+        .iter()
+        .filter(|p| {
+            !points.iter().any(|q| {
+                (q.real_time() > p.real_time() && err(q) <= err(p))
+                    || (q.real_time() >= p.real_time() && err(q) < err(p))
+            })
+        })
+        .collect();
+    out.sort_by(|a, b| b.real_time().total_cmp(&a.real_time()));
+    out
+}
+
+// ------------------------------------------------------------------------------------------------
+// Report
+// ------------------------------------------------------------------------------------------------
+
+/// The error a setting is judged by here: distance, or 100 % when a skip is wrong.
+fn judged(p: &FrontPoint) -> f64 {
+    if p.err.skips != 0 {
+        1.0
+    } else {
+        p.err.distance
+    }
+}
+
+/// `front.csv`: every setting.
+pub fn front_csv(front: &Front) -> Csv {
+    let mut csv = Csv::new(&[
+        "segments",
+        "bands",
+        "triangles",
+        "tolerance",
+        "across_ticks",
+        "skips",
+        "skips_error",
+        "distance_m",
+        "distance_error",
+        "contact_error",
+        "force_evals",
+        "steps",
+        "sim_time_s",
+        "wall_s",
+        "real_time",
+    ]);
+    for p in &front.points {
+        csv.push(vec![
+            p.segments.into(),
+            p.bands.into(),
+            p.triangles.into(),
+            p.tolerance.into(),
+            p.across.into(),
+            p.stats.skips.into(),
+            p.err.skips.into(),
+            p.stats.distance.into(),
+            p.err.distance.into(),
+            p.err.contact.into(),
+            p.stats.force_evals.into(),
+            p.stats.steps.into(),
+            p.stats.final_time.into(),
+            p.stats.wall.into(),
+            p.real_time().into(),
+        ]);
+    }
+    csv
+}
+
+/// `front.png`: distance error against real time, a line per mesh and step rule.
+pub fn front_chart(ctx: &Ctx, front: &Front) -> Result<(), StudyError> {
+    let mut chart = Chart::new(
+        "the shipped default, stone only",
+        "real time (simulated s per wall s)",
+        "distance error (a wrong skip count: 100 %)",
+    )
+    .log_x()
+    .log_y()
+    .legend(Legend::LowerLeft)
+    .line(RefLine::h("1 %", 0.01, colors::GREY))
+    .line(RefLine::v("300×", GOAL, colors::GREY));
+    let meshes = front_settings(ctx.quick).meshes;
+    for (k, &(n, b)) in meshes.iter().enumerate() {
+        let col = colors::CYCLE[k % colors::CYCLE.len()];
+        for across in [false, true] {
+            let pts = front
+                .points
+                .iter()
+                .filter(|p| p.segments == n && p.bands == b && p.across == across)
+                .map(|p| (p.real_time(), judged(p).max(FLOOR)))
+                .collect();
+            let (label, mark) = if across {
+                (format!("{n} × {b}, across ticks"), Mark::Dashed)
+            } else {
+                (format!("{n} × {b}"), Mark::LinePoints)
+            };
+            chart = chart.series(Series::new(label, pts, col, mark));
+        }
+    }
+    plot::draw(
+        &ctx.path("front.png"),
+        (1000, 700),
+        1,
+        Some("Real time against error (tolerances along each line)"),
+        &[Panel::Chart(chart)],
+    )
+}
+
+/// A setting's name in the report.
+fn name(p: &FrontPoint) -> String {
+    format!(
+        "{} × {}, tolerance {}{}",
+        p.segments,
+        p.bands,
+        sig(p.tolerance, 1),
+        if p.across { ", across ticks" } else { "" }
+    )
+}
+
+/// A setting's cell: real time, then the distance error or the skips it gets wrong.
+fn cell(p: &FrontPoint) -> String {
+    let err = if p.err.skips != 0 {
+        format!("**{:+} skips**", p.err.skips)
+    } else {
+        pct(p.err.distance, 2)
+    };
+    format!("{}×, {err}", sig(p.real_time(), 3))
+}
+
+/// The report's section.
+pub fn front_md(ctx: &Ctx, front: &Front) -> String {
+    let FrontSettings {
+        meshes, tolerances, ..
+    } = front_settings(ctx.quick);
+    let (rs, rb, rt) = front.reference_setting;
+    let r = &front.reference;
+    let mut s = String::from("\n## The shipped default, stone only: real time against error\n\n");
+    s.push_str(&format!(
+        "The throw of `assets/presets/default.ron` with the water off (free rotation, the Résal spin, Archimedes on the wetted faces, the air in flight; the 5 ms tick), at each mesh (segments × bands), `Adaptive` tolerance, and step rule (tick-bound, or `physics.steps_across_ticks`), against {rs} × {rb} at tolerance {} ({} skips, {} m, {} force evaluations). Each setting runs alone, once in each of {} rounds over all the settings, the best wall time kept (the whole run, the stone's construction included); real time is the simulated time over it, noisy on this shared machine by some ±15 % between regenerations. Cell: real time, distance error (a wrong skip count in bold). ![front](front.png)\n\n",
+        sig(rt, 1),
+        r.skips,
+        sig(r.distance, 6),
+        r.force_evals,
+        repeats(ctx.quick),
+    ));
+    let mut header = vec!["mesh, steps".to_string()];
+    header.extend(
+        tolerances
+            .iter()
+            .map(|t| format!("tolerance {}", sig(*t, 1))),
+    );
+    let mut rows = Vec::new();
+    for &(n, b) in &meshes {
+        for across in [false, true] {
+            let mut row = vec![format!(
+                "{n} × {b}{}",
+                if across { ", across ticks" } else { "" }
+            )];
+            for &t in &tolerances {
+                let p = front.points.iter().find(|p| {
+                    p.segments == n && p.bands == b && p.across == across && p.tolerance == t
+                });
+                row.push(p.map_or_else(|| "–".into(), cell));
+            }
+            rows.push(row);
+        }
+    }
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    s.push_str(&md_table(&header, &rows));
+    s.push_str(&front_findings(front));
+    s
+}
+
+/// The findings: the shipped setting, the fastest within 1 %, and the 300× goal.
+fn front_findings(front: &Front) -> String {
+    let mut s = String::from("\n");
+    let (sn, sb, st) = front.shipped;
+    if let Some(p) = front
+        .points
+        .iter()
+        .find(|p| p.segments == sn && p.bands == sb && p.tolerance == st && !p.across)
+    {
+        s.push_str(&format!(
+            "- The shipped setting ({}): {}× real time, {} force evaluations, distance {}.\n",
+            name(p),
+            sig(p.real_time(), 3),
+            p.stats.force_evals,
+            if p.err.skips != 0 {
+                format!("with {:+} skips", p.err.skips)
+            } else {
+                format!("within {}", pct(p.err.distance, 2))
+            }
+        ));
+    }
+    let fastest = |ok: &dyn Fn(&FrontPoint) -> bool| {
+        front
+            .points
+            .iter()
+            .filter(|p| ok(p))
+            .max_by(|a, b| a.real_time().total_cmp(&b.real_time()))
+    };
+    match fastest(&|p| p.within_one_percent()) {
+        Some(p) => s.push_str(&format!(
+            "- The fastest setting within 1 % in distance with the reference's skips: {}, {}× real time ({} force evaluations, {}).\n",
+            name(p),
+            sig(p.real_time(), 3),
+            p.stats.force_evals,
+            pct(p.err.distance, 2)
+        )),
+        None => s.push_str("- No setting stays within 1 % with the reference's skips.\n"),
+    }
+    let goal = format!("{}×", sig(GOAL, 3));
+    match fastest(&|p| p.within_one_percent() && p.real_time() >= GOAL) {
+        Some(_) => {
+            let n = front
+                .points
+                .iter()
+                .filter(|p| p.within_one_percent() && p.real_time() >= GOAL)
+                .count();
+            s.push_str(&format!(
+                "- {n} setting(s) within 1 % reach {goal} on this machine.\n"
+            ));
+        }
+        None => {
+            s.push_str(&format!(
+                "- No setting within 1 % reaches {goal} on this machine."
+            ));
+            match fastest(&|p| p.real_time() >= GOAL) {
+                Some(p) => s.push_str(&format!(
+                    " The settings that do are off by more: the fastest, {}, runs {}× with {}.\n",
+                    name(p),
+                    sig(p.real_time(), 3),
+                    if p.err.skips != 0 {
+                        format!("{:+} skips", p.err.skips)
+                    } else {
+                        pct(p.err.distance, 2)
+                    }
+                )),
+                None => s.push_str(" No swept setting reaches it at all.\n"),
+            }
+        }
+    }
+    let front_pts = pareto(&front.points);
+    let list: Vec<String> = front_pts
+        .iter()
+        .map(|p| {
+            format!("{} ({}×, {})", name(p), sig(p.real_time(), 3), {
+                if p.err.skips != 0 {
+                    format!("{:+} skips", p.err.skips)
+                } else {
+                    pct(p.err.distance, 2)
+                }
+            })
+        })
+        .collect();
+    s.push_str(&format!(
+        "- The front (no other setting both faster and closer), fastest first: {}.\n",
+        list.join("; ")
+    ));
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(real_time: f64, distance: f64, skips: i64) -> FrontPoint {
+        FrontPoint {
+            segments: 32,
+            bands: 16,
+            triangles: 0,
+            tolerance: 1e-6,
+            across: false,
+            stats: RunStats {
+                distance: 1.0,
+                skips: 1,
+                durations: vec![],
+                starts: vec![],
+                final_time: real_time,
+                force_evals: 1,
+                steps: 1,
+                wall: 1.0,
+                outcome: "sank",
+            },
+            err: Errors {
+                distance,
+                skips,
+                contact: 0.0,
+                entry: 0.0,
+            },
+        }
+    }
+
+    /// The front keeps exactly the settings nothing dominates, fastest first; a wrong skip count
+    /// is as bad as any error.
+    #[test]
+    fn pareto_keeps_the_undominated_settings() {
+        let pts = vec![
+            point(100.0, 1e-3, 0),
+            point(200.0, 1e-2, 0),
+            point(150.0, 2e-2, 0), // slower and worse than the 200× one
+            point(300.0, 1e-4, 1), // fastest, but a skip wrong
+            point(50.0, 1e-3, 0),  // as accurate as the 100× one, slower
+        ];
+        let front: Vec<f64> = pareto(&pts).iter().map(|p| p.real_time()).collect();
+        assert_eq!(front, vec![300.0, 200.0, 100.0]);
+    }
+
+    /// The sweep contains the shipped default's own mesh and tolerance, so the report can place it.
+    #[test]
+    fn the_full_sweep_contains_the_shipped_setting() {
+        let p = shipped_default().expect("the shipped default loads");
+        let sweep = front_settings(false);
+        let bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
+        assert!(sweep.meshes.contains(&(p.stone.segments, bands)));
+        assert!(sweep.tolerances.contains(&p.physics.tolerance));
+    }
+}
