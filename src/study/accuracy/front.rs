@@ -43,6 +43,24 @@ impl FrontPoint {
     pub fn within_one_percent(&self) -> bool {
         self.err.skips == 0 && self.err.distance < 0.01
     }
+
+    /// The error a setting is judged by: distance, or 1 (100 %) when a skip is wrong.
+    pub fn judged(&self) -> f64 {
+        if self.err.skips != 0 {
+            1.0
+        } else {
+            self.err.distance
+        }
+    }
+
+    /// The judged error in words: the distance error, or the skips it gets wrong.
+    fn error_text(&self) -> String {
+        if self.err.skips != 0 {
+            format!("{:+} skips", self.err.skips)
+        } else {
+            pct(self.err.distance, 2)
+        }
+    }
 }
 
 /// The sweep: the reference run and every setting.
@@ -197,13 +215,7 @@ pub fn front_sweep(ctx: &Ctx) -> Result<Front, StudyError> {
 /// The settings no other setting beats on both real time and distance error (skips wrong count
 /// as 100 %), fastest first.
 pub fn pareto(points: &[FrontPoint]) -> Vec<&FrontPoint> {
-    let err = |p: &FrontPoint| {
-        if p.err.skips != 0 {
-            1.0
-        } else {
-            p.err.distance
-        }
-    };
+    let err = FrontPoint::judged;
     let mut out: Vec<&FrontPoint> = points
         .iter()
         .filter(|p| {
@@ -220,15 +232,6 @@ pub fn pareto(points: &[FrontPoint]) -> Vec<&FrontPoint> {
 // ------------------------------------------------------------------------------------------------
 // Report
 // ------------------------------------------------------------------------------------------------
-
-/// The error a setting is judged by here: distance, or 100 % when a skip is wrong.
-fn judged(p: &FrontPoint) -> f64 {
-    if p.err.skips != 0 {
-        1.0
-    } else {
-        p.err.distance
-    }
-}
 
 /// `front.csv`: every setting.
 pub fn front_csv(front: &Front) -> Csv {
@@ -271,42 +274,53 @@ pub fn front_csv(front: &Front) -> Csv {
     csv
 }
 
-/// `front.png`: distance error against real time, a line per mesh and step rule.
+/// `front.png`: the judged error against real time (left) and against the noise-free cost,
+/// force evaluations × triangles (right); a line per mesh and step rule, tolerances along it.
 pub fn front_chart(ctx: &Ctx, front: &Front) -> Result<(), StudyError> {
-    let mut chart = Chart::new(
-        "the shipped default, stone only",
-        "real time (simulated s per wall s)",
-        "distance error (a wrong skip count: 100 %)",
-    )
-    .log_x()
-    .log_y()
-    .legend(Legend::LowerLeft)
-    .line(RefLine::h("1 %", 0.01, colors::GREY))
-    .line(RefLine::v("300×", GOAL, colors::GREY));
-    let meshes = front_settings(ctx.quick).meshes;
-    for (k, &(n, b)) in meshes.iter().enumerate() {
+    let y = "distance error (a wrong skip count: 100 %)";
+    let chart = |title: &str, x: &str| {
+        Chart::new(title, x, y)
+            .log_x()
+            .log_y()
+            .legend(Legend::LowerLeft)
+            .line(RefLine::h("1 %", 0.01, colors::GREY))
+    };
+    let mut by_time = chart("real time", "real time (simulated s per wall s)").line(RefLine::v(
+        "300×",
+        GOAL,
+        colors::GREY,
+    ));
+    let mut by_work = chart(
+        "noise-free cost",
+        "triangle evaluations per throw (force evals × triangles)",
+    );
+    for (k, &(n, b)) in front_settings(ctx.quick).meshes.iter().enumerate() {
         let col = colors::CYCLE[k % colors::CYCLE.len()];
         for across in [false, true] {
-            let pts = front
+            let pts: Vec<&FrontPoint> = front
                 .points
                 .iter()
                 .filter(|p| p.segments == n && p.bands == b && p.across == across)
-                .map(|p| (p.real_time(), judged(p).max(FLOOR)))
                 .collect();
             let (label, mark) = if across {
                 (format!("{n} × {b}, across ticks"), Mark::Dashed)
             } else {
                 (format!("{n} × {b}"), Mark::LinePoints)
             };
-            chart = chart.series(Series::new(label, pts, col, mark));
+            let series = |x: &dyn Fn(&FrontPoint) -> f64| {
+                let xy = pts.iter().map(|p| (x(p), p.judged().max(FLOOR))).collect();
+                Series::new(label.clone(), xy, col, mark)
+            };
+            by_time = by_time.series(series(&|p| p.real_time()));
+            by_work = by_work.series(series(&|p| p.stats.force_evals as f64 * p.triangles as f64));
         }
     }
     plot::draw(
         &ctx.path("front.png"),
-        (1000, 700),
-        1,
-        Some("Real time against error (tolerances along each line)"),
-        &[Panel::Chart(chart)],
+        (1600, 700),
+        2,
+        Some("The shipped default, stone only: error against speed (tolerances along each line)"),
+        &[Panel::Chart(by_time), Panel::Chart(by_work)],
     )
 }
 
@@ -324,9 +338,9 @@ fn name(p: &FrontPoint) -> String {
 /// A setting's cell: real time, then the distance error or the skips it gets wrong.
 fn cell(p: &FrontPoint) -> String {
     let err = if p.err.skips != 0 {
-        format!("**{:+} skips**", p.err.skips)
+        format!("**{}**", p.error_text())
     } else {
-        pct(p.err.distance, 2)
+        p.error_text()
     };
     format!("{}×, {err}", sig(p.real_time(), 3))
 }
@@ -390,9 +404,9 @@ fn front_findings(front: &Front) -> String {
             sig(p.real_time(), 3),
             p.stats.force_evals,
             if p.err.skips != 0 {
-                format!("with {:+} skips", p.err.skips)
+                format!("with {}", p.error_text())
             } else {
-                format!("within {}", pct(p.err.distance, 2))
+                format!("within {}", p.error_text())
             }
         ));
     }
@@ -434,11 +448,7 @@ fn front_findings(front: &Front) -> String {
                     " The settings that do are off by more: the fastest, {}, runs {}× with {}.\n",
                     name(p),
                     sig(p.real_time(), 3),
-                    if p.err.skips != 0 {
-                        format!("{:+} skips", p.err.skips)
-                    } else {
-                        pct(p.err.distance, 2)
-                    }
+                    p.error_text()
                 )),
                 None => s.push_str(" No swept setting reaches it at all.\n"),
             }
@@ -448,13 +458,12 @@ fn front_findings(front: &Front) -> String {
     let list: Vec<String> = front_pts
         .iter()
         .map(|p| {
-            format!("{} ({}×, {})", name(p), sig(p.real_time(), 3), {
-                if p.err.skips != 0 {
-                    format!("{:+} skips", p.err.skips)
-                } else {
-                    pct(p.err.distance, 2)
-                }
-            })
+            format!(
+                "{} ({}×, {})",
+                name(p),
+                sig(p.real_time(), 3),
+                p.error_text()
+            )
         })
         .collect();
     s.push_str(&format!(
