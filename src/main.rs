@@ -241,6 +241,11 @@ fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Re
     if cancel.load(Ordering::SeqCst) {
         eprintln!("stoneskip: interrupted at t = {:.3} s", sim.time());
     }
+    // The run's speed, on stderr so that stdout stays the same bits run after run.
+    eprintln!(
+        "{}",
+        speed_line(sim.time(), started.elapsed().as_secs_f64())
+    );
     let summary = sim.summary();
     if json {
         println!("{}", json_summary(&summary)?);
@@ -250,9 +255,29 @@ fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Re
     Ok(())
 }
 
+/// "simulated T s in W s of wall time (R× real time)": how fast a headless run went (the stone's
+/// construction not included; real time is the simulated time over the wall time).
+fn speed_line(simulated: f64, wall: f64) -> String {
+    let rate = if wall > 0.0 {
+        format!("{:.0}× real time", simulated / wall)
+    } else {
+        "too fast to time".into()
+    };
+    format!("simulated {simulated:.3} s in {wall:.3} s of wall time ({rate})")
+}
+
 #[cfg(test)]
 mod tests {
-    use super::time_left;
+    use super::{speed_line, time_left};
+
+    #[test]
+    fn the_speed_line_is_simulated_over_wall_time() {
+        assert_eq!(
+            speed_line(6.57, 0.0438),
+            "simulated 6.570 s in 0.044 s of wall time (150× real time)"
+        );
+        assert!(speed_line(1.0, 0.0).ends_with("(too fast to time)"));
+    }
 
     #[test]
     fn the_time_left_is_the_remaining_time_over_the_rate() {

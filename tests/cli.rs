@@ -95,6 +95,13 @@ fn json_is_complete_and_deterministic() {
     let b = stoneskip(&["simulate", "--preset", &f, "--json"]);
     assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
     assert_eq!(a.stdout, b.stdout, "identical JSON twice");
+    // The run's speed goes to stderr, never into the JSON.
+    let err = String::from_utf8_lossy(&a.stderr);
+    assert!(
+        err.lines()
+            .any(|l| l.starts_with("simulated ") && l.contains("of wall time")),
+        "{err}"
+    );
     let v: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
     assert_eq!(v["schema"], 1);
     for key in [
