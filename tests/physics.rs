@@ -393,6 +393,7 @@ fn low_flight_over_a_crest_touches_inside_a_tick() {
             mass: 0.005,
             segments: 16,
             bands: None,
+            quadrature: Default::default(),
         };
         p.launch.attitude = Attitude {
             tilt_deg: 0.0,

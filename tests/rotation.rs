@@ -119,6 +119,7 @@ fn dzhanibekov_flip_only_about_intermediate_axis() {
         mass: 0.2,
         segments: 8,
         bands: None,
+        quadrature: Default::default(),
     })
     .unwrap();
     let m = stone.principal_moments();
@@ -379,6 +380,7 @@ fn tumbling_stone_grazes_inside_a_tick() {
             mass: 0.1,
             segments: 48,
             bands: None,
+            quadrature: Default::default(),
         };
         p.physics.rotation = Rotation::Free;
         p.physics.integrator = integrator;

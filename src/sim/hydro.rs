@@ -229,13 +229,17 @@ pub struct FaceLoad {
 }
 
 /// Signed height of the stone's lowest vertex above the surface (the kernel's hierarchy search;
-/// equal to [`lowest_clearance_reference`]).
+/// equal to [`lowest_clearance_reference`]); with the smooth quadrature over flat water, of the
+/// smooth lens's lowest point.
 pub fn lowest_clearance(
     stone: &Stone,
     position: DVec3,
     orientation: DQuat,
     surface: &dyn Surface,
 ) -> f64 {
+    if let Some(smooth) = stone.smooth.as_ref().filter(|_| surface.is_flat()) {
+        return smooth.clearance(position, orientation);
+    }
     kernel::lowest_clearance(
         &stone.kernel,
         stone.bounding_radius,
@@ -316,6 +320,9 @@ pub fn evaluate(
     scratch: &mut Scratch,
     record: bool,
 ) -> ForceSum {
+    if let Some(smooth) = stone.smooth.as_ref().filter(|_| surface.is_flat()) {
+        return smooth.evaluate(hp, pose, &mut scratch.loads, record);
+    }
     if !kernel::fast_path_supports(hp) {
         return evaluate_reference(stone, hp, pose, surface, scratch, record);
     }
@@ -633,6 +640,7 @@ mod tests {
             mass: 0.1,
             segments: 24,
             bands: None,
+            quadrature: Default::default(),
         })
         .unwrap()
     }
@@ -736,6 +744,7 @@ mod tests {
             mass: 0.1,
             segments: 32,
             bands: None,
+            quadrature: Default::default(),
         })
         .unwrap();
         let q = DQuat::from_rotation_y(-0.35);
@@ -785,6 +794,7 @@ mod tests {
             mass: 0.1,
             segments: 8,
             bands: None,
+            quadrature: Default::default(),
         })
         .unwrap();
         let pose = Pose {

@@ -933,6 +933,7 @@ mod tests {
             mass: 0.1,
             segments: 32,
             bands: None,
+            quadrature: Default::default(),
         })
         .unwrap()
     }

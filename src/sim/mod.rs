@@ -27,6 +27,7 @@ pub mod metrics;
 pub mod params;
 pub mod reference;
 pub mod scenario;
+pub mod smooth;
 pub mod stone;
 pub mod water;
 
@@ -1331,7 +1332,7 @@ impl StepContext<'_> {
             FlightBound::new(radius, speed_h, omega, self.slope, max_eta).with_air(a_air);
         let axis = self.axis_turn(s, m_air * h);
         if let Some((perp, _)) = axis {
-            let facet = stone.kernel.facet_gap(self.slope).unwrap_or(f64::INFINITY);
+            let facet = stone.facet_gap(self.slope).unwrap_or(f64::INFINITY);
             bound = bound.with_revolution(radius, speed_h, perp, self.slope, facet);
         }
         // At the origin no early-out applies: the lowest vertex's offset itself.
@@ -1370,7 +1371,7 @@ impl StepContext<'_> {
         if self.dy.rotation != Rotation::Free || !stone.is_axisymmetric() {
             return None;
         }
-        let flat = stone.kernel.facet_gap(0.0)?;
+        let flat = stone.facet_gap(0.0)?;
         let a = s.orientation * DVec3::Z;
         let m = stone.principal_moments();
         Some((

@@ -117,6 +117,29 @@ pub struct StoneParams {
         skip_serializing_if = "Option::is_none"
     )]
     pub bands: Option<u32>,
+    /// How the water's forces are summed over a lens (numerics: the same law either way).
+    /// Omitted: `Faces`, every wetted triangle of the mesh (the paper), and it is written only
+    /// when `Smooth`.
+    #[serde(skip_serializing_if = "Quadrature::is_faces")]
+    pub quadrature: Quadrature,
+}
+
+/// Where the force law is evaluated (`stone.quadrature`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum Quadrature {
+    /// At the wetted centroid of every wetted triangle of the mesh (paper eqs. 24–26).
+    #[default]
+    Faces,
+    /// On the smooth ellipsoid of a lens (`src/sim/smooth.rs`): Gauss–Legendre rules with
+    /// `meridian` nodes along the wet latitudes and `around` nodes on each arc, the waterline
+    /// exact. Flat water only (no wavy contact), a lens only, its axial spin smooth.
+    Smooth { meridian: u32, around: u32 },
+}
+
+impl Quadrature {
+    pub fn is_faces(&self) -> bool {
+        *self == Quadrature::Faces
+    }
 }
 
 impl Default for StoneParams {
@@ -130,6 +153,7 @@ impl Default for StoneParams {
             mass: 0.1,
             segments: 32,
             bands: None,
+            quadrature: Quadrature::Faces,
         }
     }
 }
@@ -624,6 +648,38 @@ impl Preset {
         self.launch.validate()?;
         self.physics.validate()?;
         self.water.validate()?;
+        self.check_quadrature()
+    }
+
+    /// `stone.quadrature: Smooth` integrates over a smooth body on flat water.
+    fn check_quadrature(&self) -> Result<(), ParamError> {
+        if self.stone.quadrature.is_faces() {
+            return Ok(());
+        }
+        let refuse = |field: &str, why: &str| {
+            Err(ParamError::new(
+                field,
+                format!("{why} with stone.quadrature: Smooth"),
+            ))
+        };
+        if self.water.enabled && self.water.wavy_contact {
+            return refuse(
+                "water.wavy_contact",
+                "expected false (the smooth quadrature meets flat water only)",
+            );
+        }
+        if self.physics.rotation == Rotation::Free && !self.physics.axial_spin.is_smooth() {
+            return refuse(
+                "physics.axial_spin",
+                "expected Smooth or Resal (a smooth body has no facets to turn)",
+            );
+        }
+        if self.physics.pressure_centre != PressureCentre::Faces {
+            return refuse(
+                "physics.pressure_centre",
+                "expected Faces (the planing centre needs the faces' wetted length)",
+            );
+        }
         Ok(())
     }
 }
@@ -667,6 +723,25 @@ impl StoneParams {
                     "stone.bands",
                     format!("expected an integer in [4, 128], found {bands}"),
                 ));
+            }
+        }
+        if let Quadrature::Smooth { meridian, around } = self.quadrature {
+            if !matches!(self.shape, Shape::Lens { .. }) {
+                return Err(ParamError::new(
+                    "stone.quadrature",
+                    format!(
+                        "expected Faces for a {} (Smooth integrates over a lens's ellipsoid)",
+                        self.shape.kind_name()
+                    ),
+                ));
+            }
+            for (field, n) in [("meridian", meridian), ("around", around)] {
+                if !(2..=64).contains(&n) {
+                    return Err(ParamError::new(
+                        &format!("stone.quadrature.{field}"),
+                        format!("expected an integer in [2, 64], found {n}"),
+                    ));
+                }
             }
         }
         Ok(())

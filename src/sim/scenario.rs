@@ -141,6 +141,7 @@ pub fn typical(rev_s: Option<f64>, centre: PressureCentre) -> Preset {
         mass: 0.15,
         segments: 48,
         bands: None,
+        quadrature: Default::default(),
     };
     p.launch.position = [0.0, 0.0, 0.25];
     p.launch.velocity = [12.0, 0.0, -0.5];

@@ -7,7 +7,8 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::kernel::KernelMesh;
-use super::params::{Attitude, ParamError, Shape, StoneParams};
+use super::params::{Attitude, ParamError, Quadrature, Shape, StoneParams};
+use super::smooth::SmoothLens;
 
 /// A closed triangle mesh in the stone's body frame (centre of mass at the origin).
 #[derive(Debug, Clone, PartialEq)]
@@ -301,6 +302,9 @@ pub struct Stone {
     pub areas: Vec<f64>,
     /// The mesh arranged for the force kernel (struct-of-arrays, bounding hierarchies).
     pub kernel: KernelMesh,
+    /// `stone.quadrature: Smooth`: the lens's smooth ellipsoid, on which the forces are
+    /// integrated over flat water (the mesh then only draws it and tests its sinking).
+    pub smooth: Option<SmoothLens>,
 }
 
 impl Stone {
@@ -334,18 +338,43 @@ impl Stone {
             .unzip();
         let layout = revolution_layout(&params.shape, params.segments, params.bands);
         let kernel = KernelMesh::new(&mesh, &normals, &areas, layout.as_ref());
+        let smooth = match (params.quadrature, params.shape) {
+            (Quadrature::Smooth { meridian, around }, Shape::Lens { radius, thickness }) => Some(
+                SmoothLens::new(radius, 0.5 * thickness, meridian as usize, around as usize),
+            ),
+            _ => None,
+        };
+        // The smooth body's own mass properties (the inscribed mesh's are a little smaller).
+        let (inertia, inv_inertia, volume) = match &smooth {
+            Some(s) => {
+                let i = s.inertia(params.mass);
+                (i, i.inverse(), s.volume())
+            }
+            None => (props.inertia, inv_inertia, props.volume),
+        };
         Ok(Self {
             kernel,
+            smooth,
             shape: params.shape,
             mass: params.mass,
-            inertia: props.inertia,
+            inertia,
             inv_inertia,
-            volume: props.volume,
+            volume,
             bounding_radius,
             mesh,
             normals,
             areas,
         })
+    }
+
+    /// How far the lowest vertex can stand above the lowest point of its rings over a surface of
+    /// slope at most `slope` (`integrate::RevolutionBound`); 0 for the smooth lens, whose own
+    /// surface is what meets the water. `None` for a mesh that is not rings.
+    pub fn facet_gap(&self, slope: f64) -> Option<f64> {
+        if self.smooth.is_some() {
+            return Some(0.0);
+        }
+        self.kernel.facet_gap(slope)
     }
 
     /// Principal moments (I_xx, I_yy, I_zz) in the body frame (the meshes are built on their

@@ -112,6 +112,7 @@ pub fn clanet_disc(law: ForceLaw, tilt_deg: f64) -> Preset {
         mass: CLANET_MASS,
         segments: 48,
         bands: None,
+        quadrature: Default::default(),
     };
     p.launch.attitude.tilt_deg = tilt_deg;
     p.launch.spin = 0.0;

@@ -39,6 +39,7 @@ pub fn bocquet_plate() -> Preset {
         mass: 0.1,
         segments: 8,
         bands: None,
+        quadrature: Default::default(),
     };
     p.launch.attitude = Attitude {
         tilt_deg: 10.0,
@@ -65,6 +66,7 @@ pub fn clanet_stone() -> StoneParams {
         mass: CLANET_MASS,
         segments: 48,
         bands: None,
+        quadrature: Default::default(),
     }
 }
 

@@ -2061,6 +2061,7 @@ mod tests {
             mass: 0.1,
             segments: 32,
             bands: None,
+            quadrature: Default::default(),
         })
         .unwrap();
         let faces = &stone.kernel.faces;
@@ -2167,6 +2168,7 @@ mod tests {
             mass: 0.1,
             segments: 40,
             bands: None,
+            quadrature: Default::default(),
         })
         .unwrap();
         let km = &stone.kernel;

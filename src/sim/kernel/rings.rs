@@ -624,6 +624,7 @@ mod tests {
             mass: 0.1,
             segments,
             bands: None,
+            quadrature: Default::default(),
         })
         .unwrap()
     }
@@ -654,6 +655,7 @@ mod tests {
                 mass: 0.1,
                 segments,
                 bands: Some(bands),
+                quadrature: Default::default(),
             })
             .unwrap();
             let rev = s.kernel.revolution.as_ref().expect("banded lens accepted");

@@ -54,6 +54,7 @@ pub fn bocquet_case() -> Result<BounceCase, StudyError> {
         mass: 0.1,
         segments: 8,
         bands: None,
+        quadrature: Default::default(),
     };
     p.launch.attitude.tilt_deg = 10.0;
     p.launch.spin = 0.0;

@@ -1,0 +1,579 @@
+//! The force law of [`super::hydro`] (paper eqs. 11–26, read per unit area: pressure and friction
+//! at each point of the wetted surface, eq. 24's sum becoming an integral) integrated over the
+//! smooth ellipsoid of revolution a lens mesh stands for, on flat water, instead of over its
+//! triangles (issue 12: `stone.quadrature: Smooth`).
+//!
+//! The lens is x²/a² + y²/a² + z²/c² = 1 in its body frame. A meridian is parametrised by the polar
+//! angle ψ of its outward normal N = (sin ψ cos θ, sin ψ sin θ, cos ψ): with D = √(a² sin²ψ +
+//! c² cos²ψ), the point is ρ = a² sin ψ / D, z = c² cos ψ / D and the meridian's radius of
+//! curvature R = a²c²/D³, so dA = ρ R dψ dθ (every quantity smooth in ψ, also at the rim, where the
+//! normal turns fastest along the surface). With u the water's up direction in the body frame and
+//! z₀ the centre's height, a point's height above flat water is A(ψ) + B(ψ) cos(θ − θ_u) (A = z₀ +
+//! u_z z, B = ρ|u_xy|): each latitude's wet part is one arc, found exactly (the waterline needs no
+//! clipping), and its normal velocity (V + ω⊥ × r)·N = P + Q cos θ + S sin θ is a first harmonic too,
+//! so the arc is cut exactly where the law switches (v_n = 0: ventilation, max(0, v_n)). The wet
+//! latitudes are one interval [ψ₁, ψ₂] about the lowest point's ψ* (the lowest point per latitude
+//! is unimodal on a convex body), its ends found by root finding; ψ = ψ_m − ψ_h cos t maps it onto
+//! t ∈ [0, π] so the arcs' √(ψ − ψ₁) growth at the ends becomes smooth. Gauss–Legendre rules
+//! (Golub & Welsch 1969; the nodes by Newton on P_n) then integrate in t and in θ on every piece.
+//!
+//! The clearance is the ellipsoid's support function, z₀ − √(a²|u_xy|² + c²u_z²), exact. Faces of
+//! the mesh converge to these integrals as it is refined (tests): the mesh's error is its facets',
+//! the quadrature's its nodes', which fall far faster. The law, the frames and the options
+//! (ventilation, pressure sign, hydrostatic pressure) are `hydro::face_force`'s, called at each
+//! node with the node's area; the axial spin is not felt as normal velocity (the smooth body's
+//! `axial_spin`), and the pressure passes through the axis (r × N ⊥ a), so it takes no axial
+//! torque.
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::hydro::{face_force, FaceLoad, ForceSum, HydroParams, Pose};
+
+/// Gauss–Legendre nodes and weights on [−1, 1] (n ≥ 1), nodes ascending.
+pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    let n = n.max(1);
+    let mut out = vec![(0.0, 0.0); n];
+    for i in 0..n.div_ceil(2) {
+        // Tricomi's initial guess, then Newton on P_n.
+        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        if 2 * i + 1 == n {
+            x = 0.0;
+        }
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            let (p, d) = legendre(n, x);
+            dp = d;
+            let dx = p / d;
+            x -= dx;
+            if dx.abs() <= 1e-16 {
+                break;
+            }
+        }
+        let (_, d) = legendre(n, x);
+        if d.is_finite() {
+            dp = d;
+        }
+        let w = 2.0 / ((1.0 - x * x) * dp * dp);
+        out[i] = (-x, w);
+        out[n - 1 - i] = (x, w);
+    }
+    out
+}
+
+/// P_n(x) and P_n'(x) by the three-term recurrence.
+fn legendre(n: usize, x: f64) -> (f64, f64) {
+    let (mut p0, mut p1) = (1.0, x);
+    for k in 2..=n {
+        let k = k as f64;
+        let p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+    }
+    if n == 0 {
+        return (1.0, 0.0);
+    }
+    let d = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+    (p1, d)
+}
+
+/// A lens as a smooth ellipsoid of revolution with its quadrature rules.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmoothLens {
+    /// Equatorial radius and half-thickness (m).
+    a: f64,
+    c: f64,
+    /// Along the wet latitudes: ψ = ψ_m − ψ_h cos t on each range, Gauss–Legendre in t ∈ [0, π];
+    /// (cos t, its weight × dψ/dt / ψ_h).
+    meridian: Vec<(f64, f64)>,
+    /// The θ rule's nodes x ≥ 0 (each x > 0 stands for ±x) and weights.
+    around_half: Vec<(f64, f64)>,
+}
+
+/// A point of a meridian: radius ρ, height z, the meridian's radius of curvature R.
+#[derive(Debug, Clone, Copy)]
+struct Meridian {
+    sin: f64,
+    cos: f64,
+    rho: f64,
+    z: f64,
+    curvature_radius: f64,
+}
+
+impl SmoothLens {
+    /// Radius `a`, half-thickness `c`; `meridian` nodes along the wet latitudes and `around`
+    /// nodes on each arc piece.
+    pub fn new(a: f64, c: f64, meridian: usize, around: usize) -> Self {
+        Self {
+            a,
+            c,
+            meridian: gauss_legendre(meridian)
+                .into_iter()
+                .map(|(x, w)| {
+                    let t = 0.5 * std::f64::consts::PI * (x + 1.0);
+                    (t.cos(), w * 0.5 * std::f64::consts::PI * t.sin())
+                })
+                .collect(),
+            around_half: gauss_legendre(around)
+                .into_iter()
+                .filter(|&(x, _)| x >= 0.0)
+                .collect(),
+        }
+    }
+
+    /// The ellipsoid's volume (m³).
+    pub fn volume(&self) -> f64 {
+        4.0 / 3.0 * std::f64::consts::PI * self.a * self.a * self.c
+    }
+
+    /// Body-frame inertia of a uniform ellipsoid of mass `mass` (kg m²).
+    pub fn inertia(&self, mass: f64) -> DMat3 {
+        let (a2, c2) = (self.a * self.a, self.c * self.c);
+        let side = mass * (a2 + c2) / 5.0;
+        DMat3::from_diagonal(DVec3::new(side, side, 2.0 * mass * a2 / 5.0))
+    }
+
+    fn at(&self, psi: f64) -> Meridian {
+        let (s, c) = psi.sin_cos();
+        let (a2, c2) = (self.a * self.a, self.c * self.c);
+        let d = (a2 * s * s + c2 * c * c).sqrt();
+        Meridian {
+            sin: s,
+            cos: c,
+            rho: a2 * s / d,
+            z: c2 * c / d,
+            curvature_radius: a2 * c2 / (d * d * d),
+        }
+    }
+
+    /// The water's up direction in the body frame and the body's rotation.
+    fn frame(orientation: DQuat) -> (DMat3, DVec3) {
+        let rot = DMat3::from_quat(orientation);
+        (rot, rot.transpose() * DVec3::Z)
+    }
+
+    /// Height of the lowest point above flat water (its support function).
+    fn clearance_in(&self, z0: f64, u: DVec3) -> f64 {
+        let h2 = u.x * u.x + u.y * u.y;
+        z0 - (self.a * self.a * h2 + self.c * self.c * u.z * u.z).sqrt()
+    }
+
+    /// Signed height of the lowest point of the smooth lens above flat water.
+    pub fn clearance(&self, position: DVec3, orientation: DQuat) -> f64 {
+        let (_, u) = Self::frame(orientation);
+        self.clearance_in(position.z, u)
+    }
+
+    /// Forces and torque on the lens over flat water (world frame); with `record` the vertical
+    /// load of every loaded node is pushed to `loads` for the water coupling.
+    pub fn evaluate(
+        &self,
+        hp: &HydroParams,
+        pose: &Pose,
+        loads: &mut Vec<FaceLoad>,
+        record: bool,
+    ) -> ForceSum {
+        use std::f64::consts::PI;
+        if record {
+            loads.clear();
+        }
+        let (rot, u) = Self::frame(pose.orientation);
+        let z0 = pose.position.z;
+        if self.clearance_in(z0, u) > 0.0 {
+            return ForceSum::default();
+        }
+        let horizontal = u.x.hypot(u.y);
+        // The lowest point per latitude, A − B: unimodal in ψ, least at the lowest point's ψ*.
+        let lowest = |psi: f64| {
+            let m = self.at(psi);
+            z0 + u.z * m.z - m.rho * horizontal
+        };
+        let psi_star = horizontal.atan2(-u.z);
+        let psi1 = if lowest(0.0) <= 0.0 {
+            0.0
+        } else {
+            root(lowest, 0.0, psi_star)
+        };
+        let psi2 = if lowest(PI) <= 0.0 {
+            PI
+        } else {
+            root(lowest, psi_star, PI)
+        };
+        let rt = rot.transpose();
+        let w_b = rt * pose.angular_velocity;
+        let cx = Ctx {
+            hp,
+            z0,
+            u,
+            horizontal,
+            theta_u: u.y.atan2(u.x),
+            v_b: rt * pose.velocity,
+            w_b,
+            w_perp: DVec3::new(w_b.x, w_b.y, 0.0),
+            speed: pose.velocity.length(),
+        };
+        let mut acc = Sums::default();
+        let mut sink = record.then_some(Loads {
+            rot: &rot,
+            position: pose.position,
+            loads,
+        });
+        // The caps hold most of the area in a few degrees of ψ about the poles (R is a²/c there,
+        // c²/a at the rim): a wet range that reaches from a cap into the rim band is cut there.
+        let cap = 2.0 * self.c.atan2(self.a);
+        let mut ends = [psi1, psi2, psi2, psi2];
+        let mut n = 1;
+        for b in [cap, PI - cap] {
+            if b > psi1 && b < psi2 {
+                ends[n] = b;
+                n += 1;
+            }
+        }
+        ends[n] = psi2;
+        for range in ends[..=n].windows(2) {
+            let (mid, half) = (0.5 * (range[0] + range[1]), 0.5 * (range[1] - range[0]));
+            for &(cos_t, weight) in &self.meridian {
+                let weight = weight * half;
+                if weight <= 0.0 {
+                    continue;
+                }
+                let m = self.at(mid - half * cos_t);
+                let lat = Latitude {
+                    m,
+                    weight: weight * m.rho * m.curvature_radius,
+                    k: m.rho * m.cos - m.z * m.sin,
+                };
+                self.latitude(&cx, &lat, &mut acc, sink.as_mut());
+            }
+        }
+        ForceSum {
+            force: rot * acc.force,
+            torque: rot * acc.torque,
+            wetted_area: acc.area,
+            in_contact: true,
+        }
+    }
+
+    /// Integrates one wet latitude's arc, cut where the normal velocity changes sign.
+    fn latitude(&self, cx: &Ctx, lat: &Latitude, acc: &mut Sums, mut sink: Option<&mut Loads>) {
+        use std::f64::consts::{PI, TAU};
+        let m = &lat.m;
+        let a_coef = cx.z0 + cx.u.z * m.z;
+        let b_coef = m.rho * cx.horizontal;
+        // The wet arc [start, start + width] (heights A + B cos(θ − θ_u) ≤ 0).
+        let (start, width) = if b_coef <= 0.0 || a_coef <= -b_coef {
+            if a_coef > 0.0 {
+                return;
+            }
+            (cx.theta_u, TAU)
+        } else if a_coef >= b_coef {
+            return;
+        } else {
+            let beta = (a_coef / b_coef).acos();
+            (cx.theta_u + PI - beta, 2.0 * beta)
+        };
+        // The normal velocity P + Q cos θ + S sin θ, and where it changes sign inside the arc.
+        let p = m.cos * cx.v_b.z;
+        let q = m.sin * cx.v_b.x - lat.k * cx.w_perp.y;
+        let s = m.sin * cx.v_b.y + lat.k * cx.w_perp.x;
+        let r = q.hypot(s);
+        let mut cuts = [0.0, width, width, width];
+        let mut n = 1;
+        if r > 0.0 && (-p / r).abs() < 1.0 {
+            let gamma = (-p / r).acos();
+            let theta_v = s.atan2(q);
+            let mut inner = [theta_v - gamma, theta_v + gamma].map(|b| (b - start).rem_euclid(TAU));
+            inner.sort_by(f64::total_cmp);
+            for off in inner {
+                if off > 0.0 && off < width {
+                    cuts[n] = off;
+                    n += 1;
+                }
+            }
+        }
+        cuts[n] = width;
+        for piece in cuts[..=n].windows(2) {
+            let (pm, ph) = (start + 0.5 * (piece[0] + piece[1]), 0.5 * (piece[1] - piece[0]));
+            if ph <= 0.0 {
+                continue;
+            }
+            // Gauss nodes come in pairs ±x: cos and sin of pm ± ph x from one sin_cos each.
+            let (sm, cm) = pm.sin_cos();
+            for &(x, w) in &self.around_half {
+                let (sx, cx_) = if x == 0.0 { (0.0, 1.0) } else { (ph * x).sin_cos() };
+                let sides: &[f64] = if x == 0.0 { &[1.0] } else { &[1.0, -1.0] };
+                for &sign in sides {
+                    let (sn, cs) = (sm * cx_ + sign * cm * sx, cm * cx_ - sign * sm * sx);
+                    self.node(cx, lat, (sn, cs), (p, q, s), w * ph, acc, sink.as_deref_mut());
+                }
+            }
+        }
+    }
+
+    /// One node of a latitude's arc at azimuth (sin θ, cos θ), normal velocity P + Q cos θ +
+    /// S sin θ, weight `w` in θ.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn node(
+        &self,
+        cx: &Ctx,
+        lat: &Latitude,
+        (sn, cs): (f64, f64),
+        (p, q, s): (f64, f64, f64),
+        w: f64,
+        acc: &mut Sums,
+        sink: Option<&mut Loads>,
+    ) {
+        let m = &lat.m;
+        let r_b = DVec3::new(m.rho * cs, m.rho * sn, m.z);
+        let normal = DVec3::new(m.sin * cs, m.sin * sn, m.cos);
+        let area = lat.weight * w;
+        let v = cx.v_b + cx.w_b.cross(r_b);
+        let vn = p + q * cs + s * sn;
+        let depth = -(cx.z0 + cx.u.dot(r_b));
+        let f = face_force(cx.hp, normal, area, v, vn, cx.speed, depth);
+        if f == DVec3::ZERO {
+            return;
+        }
+        acc.area += area;
+        acc.force += f;
+        acc.torque += r_b.cross(f);
+        if let Some(sink) = sink {
+            let world = sink.position + *sink.rot * r_b;
+            sink.loads.push(FaceLoad {
+                x: world.x,
+                y: world.y,
+                fz: (*sink.rot * f).z,
+                footprint: area * cx.u.dot(normal).abs(),
+            });
+        }
+    }
+}
+
+/// What every node of one evaluation shares (body frame).
+struct Ctx<'a> {
+    hp: &'a HydroParams,
+    z0: f64,
+    /// The water's up direction.
+    u: DVec3,
+    /// |u_xy|
+    horizontal: f64,
+    /// Azimuth of u's horizontal part: the highest point of every latitude.
+    theta_u: f64,
+    v_b: DVec3,
+    w_b: DVec3,
+    /// ω without its axial part: what the smooth body's normal velocity feels.
+    w_perp: DVec3,
+    /// Centre-of-mass speed U.
+    speed: f64,
+}
+
+/// Where the loads of a recorded evaluation go (world frame).
+struct Loads<'a> {
+    rot: &'a DMat3,
+    position: DVec3,
+    loads: &'a mut Vec<FaceLoad>,
+}
+
+/// One wet latitude: its meridian point, the weight of its ψ node times ρR, and k = ρ cos ψ −
+/// z sin ψ (r × N = k (sin θ, −cos θ, 0)).
+struct Latitude {
+    m: Meridian,
+    weight: f64,
+    k: f64,
+}
+
+#[derive(Default)]
+struct Sums {
+    force: DVec3,
+    torque: DVec3,
+    area: f64,
+}
+
+/// A root of `f` in [lo, hi] where f(lo) and f(hi) differ in sign (Illinois false position, with
+/// bisection's bracket kept), to the last bits of ψ.
+fn root(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    let (mut a, mut b) = (lo, hi);
+    let (mut fa, mut fb) = (f(a), f(b));
+    if fa == 0.0 {
+        return a;
+    }
+    if fb == 0.0 || fa.signum() == fb.signum() {
+        return b;
+    }
+    let mut side = 0;
+    for _ in 0..100 {
+        let mut x = (a * fb - b * fa) / (fb - fa);
+        if !(x > a.min(b) && x < a.max(b)) {
+            x = 0.5 * (a + b);
+        }
+        let fx = f(x);
+        if fx == 0.0 {
+            return x;
+        }
+        if fx.signum() == fb.signum() {
+            b = x;
+            fb = fx;
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            a = x;
+            fa = fx;
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        }
+        if (b - a).abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs()).max(1.0) {
+            break;
+        }
+    }
+    0.5 * (a + b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::hydro::{evaluate_reference, FlatSurface, Scratch};
+    use crate::sim::params::{ForceLaw, Physics, Quadrature, Shape, StoneParams};
+    use crate::sim::stone::Stone;
+
+    fn lens(segments: u32, quadrature: Quadrature) -> Stone {
+        Stone::new(&StoneParams {
+            shape: Shape::Lens {
+                radius: 0.05,
+                thickness: 0.012,
+            },
+            mass: 0.1,
+            segments,
+            bands: Some(segments / 2),
+            quadrature,
+        })
+        .unwrap()
+    }
+
+    fn rng(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn hp(law: ForceLaw) -> HydroParams {
+        let mut p = Physics {
+            force_law: law,
+            buoyancy: true,
+            ..Physics::default()
+        };
+        p.axial_spin = crate::sim::params::AxialSpin::Smooth;
+        p.hydrostatic = crate::sim::params::Hydrostatic::WettedFaces;
+        HydroParams::from_physics(&p)
+    }
+
+    fn random_pose(seed: &mut u64) -> Pose {
+        let tilt = 0.6 * rng(seed);
+        let yaw = std::f64::consts::TAU * rng(seed);
+        let orientation = DQuat::from_rotation_z(yaw) * DQuat::from_rotation_y(-tilt);
+        let reach = 0.05 * tilt.sin() + 0.006 * tilt.cos();
+        Pose {
+            position: DVec3::new(0.0, 0.0, reach * (1.0 - 1.6 * rng(seed))),
+            velocity: DVec3::new(4.0 + 8.0 * rng(seed), rng(seed) - 0.5, -2.0 * rng(seed)),
+            orientation,
+            angular_velocity: DVec3::new(
+                20.0 * (rng(seed) - 0.5),
+                20.0 * (rng(seed) - 0.5),
+                300.0 * (rng(seed) - 0.5),
+            ),
+        }
+    }
+
+    #[test]
+    fn gauss_legendre_integrates_polynomials_of_degree_2n_minus_1() {
+        for n in 1..=24 {
+            let rule = gauss_legendre(n);
+            for k in 0..2 * n {
+                let sum: f64 = rule.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
+                let exact = if k % 2 == 1 { 0.0 } else { 2.0 / (k as f64 + 1.0) };
+                assert!((sum - exact).abs() < 1e-13, "n {n} k {k}: {sum} vs {exact}");
+            }
+        }
+    }
+
+    #[test]
+    fn clearance_is_the_lowest_point_of_the_ellipsoid() {
+        let smooth = SmoothLens::new(0.05, 0.006, 8, 8);
+        let mut seed = 3;
+        for _ in 0..50 {
+            let q = DQuat::from_rotation_z(6.0 * rng(&mut seed))
+                * DQuat::from_rotation_y(3.0 * rng(&mut seed));
+            let rot = DMat3::from_quat(q);
+            let mut lowest = f64::INFINITY;
+            for i in 0..=400 {
+                for j in 0..400 {
+                    let m = smooth.at(std::f64::consts::PI * i as f64 / 400.0);
+                    let th = std::f64::consts::TAU * j as f64 / 400.0;
+                    let p = rot * DVec3::new(m.rho * th.cos(), m.rho * th.sin(), m.z);
+                    lowest = lowest.min(p.z);
+                }
+            }
+            let c = smooth.clearance(DVec3::ZERO, q);
+            // The sampled minimum is above the true one by at most the sampling's gap.
+            assert!(c <= lowest + 1e-15 && c > lowest - 2e-6, "{c} vs {lowest}");
+        }
+    }
+
+    /// A submerged lens at rest feels Archimedes' ρ g V upwards and no torque: the quadrature
+    /// converges to it (spectrally: the integrand is smooth over the whole surface).
+    #[test]
+    fn submerged_lens_feels_archimedes() {
+        let hp = hp(ForceLaw::Rosellini);
+        let pose = Pose {
+            position: DVec3::new(0.0, 0.0, -0.2),
+            velocity: DVec3::ZERO,
+            orientation: DQuat::from_rotation_y(0.4),
+            angular_velocity: DVec3::ZERO,
+        };
+        let expected = hp.rho_g * 4.0 / 3.0 * std::f64::consts::PI * 0.05 * 0.05 * 0.006;
+        let error = |meridian: usize, around: usize| {
+            let f = SmoothLens::new(0.05, 0.006, meridian, around).evaluate(
+                &hp,
+                &pose,
+                &mut Vec::new(),
+                false,
+            );
+            let error = (f.force - DVec3::Z * expected).length() / expected;
+            (error, f.torque.length() / (expected * 0.05))
+        };
+        let (e8, e16, e32) = (error(8, 8), error(16, 8), error(32, 16));
+        assert!(e16.0 < 0.05 * e8.0 && e16.0 < 1e-5, "{e8:?} {e16:?}");
+        assert!(e32.0 < 1e-9 && e32.1 < 1e-9, "{e32:?}");
+    }
+
+    /// The faceted mesh converges to the smooth integrals as it is refined: at every pose the
+    /// 192-segment mesh is closer to them than the 48-segment one, and the error falls about
+    /// as the square of the facet size.
+    #[test]
+    fn refined_meshes_converge_to_the_smooth_quadrature() {
+        let coarse = lens(48, Quadrature::Faces);
+        let fine = lens(192, Quadrature::Faces);
+        let smooth = SmoothLens::new(0.05, 0.006, 48, 32);
+        for law in [ForceLaw::Rosellini, ForceLaw::Paper] {
+            let hp = hp(law);
+            let mut seed = 11;
+            let (mut e_coarse, mut e_fine) = (0.0f64, 0.0f64);
+            for _ in 0..40 {
+                let pose = random_pose(&mut seed);
+                let s = smooth.evaluate(&hp, &pose, &mut Vec::new(), false);
+                let (mut sc, mut sf) = (Scratch::default(), Scratch::default());
+                let c = evaluate_reference(&coarse, &hp, &pose, &FlatSurface, &mut sc, false);
+                let f = evaluate_reference(&fine, &hp, &pose, &FlatSurface, &mut sf, false);
+                let scale = s.force.length().max(1e-3);
+                e_coarse = e_coarse.max((c.force - s.force).length() / scale);
+                e_fine = e_fine.max((f.force - s.force).length() / scale);
+            }
+            assert!(e_fine < 0.4 * e_coarse, "{law:?}: {e_fine} vs {e_coarse}");
+            assert!(e_fine < 0.02, "{law:?}: {e_fine}");
+        }
+    }
+}
