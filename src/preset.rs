@@ -301,6 +301,51 @@ mod tests {
         assert_eq!(parse(&written, Path::new("rt.ron")).unwrap(), q);
     }
 
+    /// `stone.quadrature` (numerics): omitted it is `Faces`, written only when `Smooth`; a smooth
+    /// lens is refused, with the field named, on wavy water, for a disk, or with a faceted spin.
+    #[test]
+    fn quadrature_is_saved_only_when_smooth_and_refused_where_it_cannot_apply() {
+        let p = Preset::default();
+        assert!(p.stone.quadrature.is_faces());
+        assert!(!to_ron_string(&p).unwrap().contains("quadrature"));
+        let flat = "(\n  stone: (quadrature: Smooth(meridian: 16, around: 6)),\n  water: (wavy_contact: false),\n)";
+        let q = parse(flat, Path::new("smooth.ron")).unwrap();
+        assert_eq!(
+            q.stone.quadrature,
+            crate::sim::params::Quadrature::Smooth {
+                meridian: 16,
+                around: 6
+            }
+        );
+        let written = to_ron_string(&q).unwrap();
+        assert!(written.contains("quadrature: Smooth("), "{written}");
+        assert_eq!(parse(&written, Path::new("rt.ron")).unwrap(), q);
+        let refused = |text: &str, field: &str| {
+            let e = parse(text, Path::new("bad.ron")).unwrap_err().to_string();
+            assert!(e.starts_with("bad.ron:") && e.contains(field), "{e}");
+        };
+        let smooth = "quadrature: Smooth(meridian: 16, around: 6)";
+        refused(
+            &format!("(\n  stone: ({smooth}),\n  water: (enabled: true, wavy_contact: true),\n)"),
+            "water.wavy_contact",
+        );
+        refused(
+            &format!("(\n  stone: (shape: Disk(radius: 0.05, thickness: 0.01), {smooth}),\n)"),
+            "stone.quadrature",
+        );
+        refused(
+            &format!("(\n  stone: (quadrature: Smooth(meridian: 1, around: 6)),\n)"),
+            "stone.quadrature.meridian",
+        );
+        refused(
+            &format!(
+                "(\n  stone: ({smooth}),\n  physics: (rotation: Free, axial_spin: Faceted),\n  \
+                 water: (wavy_contact: false),\n)"
+            ),
+            "physics.axial_spin",
+        );
+    }
+
     #[test]
     fn save_is_atomic_and_round_trips() {
         let dir = tempfile::tempdir().unwrap();

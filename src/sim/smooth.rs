@@ -13,9 +13,12 @@
 //! clipping), and its normal velocity (V + ω⊥ × r)·N = P + Q cos θ + S sin θ is a first harmonic too,
 //! so the arc is cut exactly where the law switches (v_n = 0: ventilation, max(0, v_n)). The wet
 //! latitudes are one interval [ψ₁, ψ₂] about the lowest point's ψ* (the lowest point per latitude
-//! is unimodal on a convex body), its ends found by root finding; ψ = ψ_m − ψ_h cos t maps it onto
-//! t ∈ [0, π] so the arcs' √(ψ − ψ₁) growth at the ends becomes smooth. Gauss–Legendre rules
-//! (Golub & Welsch 1969; the nodes by Newton on P_n) then integrate in t and in θ on every piece.
+//! is unimodal on a convex body), its ends found by root finding, cut where it reaches from a cap
+//! into the rim band (ψ = 2 atan(c/a) from a pole: in ψ the caps hold most of the area in a few
+//! degrees); ψ = ψ_m − ψ_h cos t maps each range onto t ∈ [0, π] so the arcs' √(ψ − ψ₁) growth
+//! at the ends becomes smooth. Gauss–Legendre rules (the nodes by Newton on P_n) then integrate
+//! in t and in θ on every piece. Every node moves smoothly with the pose, and a range or piece
+//! that appears does so with zero width, so the force stays continuous for the step control.
 //!
 //! The clearance is the ellipsoid's support function, z₀ − √(a²|u_xy|² + c²u_z²), exact. Faces of
 //! the mesh converge to these integrals as it is refined (tests): the mesh's error is its facets',
@@ -292,18 +295,33 @@ impl SmoothLens {
         }
         cuts[n] = width;
         for piece in cuts[..=n].windows(2) {
-            let (pm, ph) = (start + 0.5 * (piece[0] + piece[1]), 0.5 * (piece[1] - piece[0]));
+            let (pm, ph) = (
+                start + 0.5 * (piece[0] + piece[1]),
+                0.5 * (piece[1] - piece[0]),
+            );
             if ph <= 0.0 {
                 continue;
             }
             // Gauss nodes come in pairs ±x: cos and sin of pm ± ph x from one sin_cos each.
             let (sm, cm) = pm.sin_cos();
             for &(x, w) in &self.around_half {
-                let (sx, cx_) = if x == 0.0 { (0.0, 1.0) } else { (ph * x).sin_cos() };
+                let (sx, cx_) = if x == 0.0 {
+                    (0.0, 1.0)
+                } else {
+                    (ph * x).sin_cos()
+                };
                 let sides: &[f64] = if x == 0.0 { &[1.0] } else { &[1.0, -1.0] };
                 for &sign in sides {
                     let (sn, cs) = (sm * cx_ + sign * cm * sx, cm * cx_ - sign * sm * sx);
-                    self.node(cx, lat, (sn, cs), (p, q, s), w * ph, acc, sink.as_deref_mut());
+                    self.node(
+                        cx,
+                        lat,
+                        (sn, cs),
+                        (p, q, s),
+                        w * ph,
+                        acc,
+                        sink.as_deref_mut(),
+                    );
                 }
             }
         }
@@ -494,7 +512,11 @@ mod tests {
             let rule = gauss_legendre(n);
             for k in 0..2 * n {
                 let sum: f64 = rule.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
-                let exact = if k % 2 == 1 { 0.0 } else { 2.0 / (k as f64 + 1.0) };
+                let exact = if k % 2 == 1 {
+                    0.0
+                } else {
+                    2.0 / (k as f64 + 1.0)
+                };
                 assert!((sum - exact).abs() < 1e-13, "n {n} k {k}: {sum} vs {exact}");
             }
         }

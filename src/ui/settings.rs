@@ -6,8 +6,8 @@ use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
     AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Launch, Limiter, NearField, Physics,
-    Precision, PressureCentre, PressureSign, Rotation, Shape, StoneParams, Swell, WaterParams,
-    MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
+    Precision, PressureCentre, PressureSign, Quadrature, Rotation, Shape, StoneParams, Swell,
+    WaterParams, MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
 };
 
 use super::ViewSettings;
@@ -487,8 +487,52 @@ fn mesh_rows_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
             "Latitude bands of the lens, pole to pole (auto: half the segments)",
             |ui| bands_ui(ui, stone),
         );
+        c |= row(
+            ui,
+            marks,
+            "quadrature",
+            "Forces on",
+            "Where the force law is summed: every wetted triangle of the mesh, or the smooth lens \
+             the mesh stands for (Gauss nodes along the wet latitudes × around each arc; flat water \
+             only, so wavy contact must be off)",
+            |ui| quadrature_ui(ui, stone),
+        );
     }
     c
+}
+
+/// A lens's quadrature: its mesh's faces, or the smooth lens with its node counts.
+fn quadrature_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
+    ui.horizontal(|ui| {
+        let mut smooth = !stone.quadrature.is_faces();
+        let mut r = ui.checkbox(&mut smooth, "smooth lens");
+        if r.changed() {
+            stone.quadrature = if smooth {
+                Quadrature::Smooth {
+                    meridian: 16,
+                    around: 6,
+                }
+            } else {
+                Quadrature::Faces
+            };
+        }
+        if let Quadrature::Smooth { meridian, around } = &mut stone.quadrature {
+            for (n, suffix) in [(meridian, " × "), (around, " nodes")] {
+                let s = ui.add(
+                    Slider::new(n, 2..=64)
+                        .custom_parser(parse_finite)
+                        .clamping(SliderClamping::Always)
+                        .suffix(suffix),
+                );
+                if s.changed() {
+                    r.mark_changed();
+                }
+                r = r.union(s);
+            }
+        }
+        r
+    })
+    .inner
 }
 
 /// A lens's latitude bands: "auto" (half the segments) or a count.
