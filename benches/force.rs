@@ -39,6 +39,7 @@ fn lens(segments: u32) -> Stone {
         mass: 0.1,
         segments,
         bands: None,
+        quadrature: Default::default(),
     })
     .expect("valid stone")
 }

@@ -100,6 +100,7 @@ fn stones() -> Vec<(String, Stone)> {
                 mass: 0.1,
                 segments,
                 bands: None,
+                quadrature: Default::default(),
             })
             .expect("valid stone");
             out.push((format!("{shape:?}/{segments}"), stone));
@@ -116,6 +117,7 @@ fn stones() -> Vec<(String, Stone)> {
             mass: 0.1,
             segments,
             bands: Some(bands),
+            quadrature: Default::default(),
         })
         .expect("valid stone");
         out.push((format!("Lens/{segments}x{bands}"), stone));

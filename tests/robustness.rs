@@ -98,6 +98,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                     mass,
                     segments,
                     bands: None,
+                    quadrature: Default::default(),
                 };
                 let (e, h) = (elev.to_radians(), heading.to_radians());
                 p.launch.position = [0.0, 0.0, z];

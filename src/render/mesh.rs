@@ -121,6 +121,7 @@ mod tests {
                 mass: 0.1,
                 segments: 24,
                 bands: None,
+                quadrature: Default::default(),
             })
             .unwrap();
             let v = stone_vertices(&stone.mesh);
