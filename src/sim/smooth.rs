@@ -284,7 +284,12 @@ impl SmoothLens {
         if r > 0.0 && (-p / r).abs() < 1.0 {
             let gamma = (-p / r).acos();
             let theta_v = s.atan2(q);
-            let mut inner = [theta_v - gamma, theta_v + gamma].map(|b| (b - start).rem_euclid(TAU));
+            // Offsets from the arc's start in [0, 2π) (the angles lie within a few turns of it).
+            let wrap = |b: f64| {
+                let d = b - start;
+                d - TAU * (d / TAU).floor()
+            };
+            let mut inner = [theta_v - gamma, theta_v + gamma].map(wrap);
             inner.sort_by(f64::total_cmp);
             for off in inner {
                 if off > 0.0 && off < width {
@@ -294,6 +299,8 @@ impl SmoothLens {
             }
         }
         cuts[n] = width;
+        let hp = cx.hp;
+        let receding_is_dry = hp.ventilated && !(hp.hydrostatic_wetted && hp.rho_g != 0.0);
         for piece in cuts[..=n].windows(2) {
             let (pm, ph) = (
                 start + 0.5 * (piece[0] + piece[1]),
@@ -304,6 +311,10 @@ impl SmoothLens {
             }
             // Gauss nodes come in pairs ±x: cos and sin of pm ± ph x from one sin_cos each.
             let (sm, cm) = pm.sin_cos();
+            // A receding piece carries nothing when only the loaded faces feel the water.
+            if receding_is_dry && p + q * cm + s * sm <= 0.0 {
+                continue;
+            }
             for &(x, w) in &self.around_half {
                 let (sx, cx_) = if x == 0.0 {
                     (0.0, 1.0)

@@ -7,12 +7,12 @@
 //! 300× goal is stated in; the force evaluations are the noise-free companion. Work-precision
 //! charts after Hairer, Nørsett & Wanner, *Solving ODEs I* §II.10.
 
-use crate::sim::params::Preset;
+use crate::sim::params::{Preset, Quadrature};
 use crate::sim::stone::Stone;
 
 use super::{errors, measure, shipped_default, Errors, RunStats, FLOOR};
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
-use crate::study::style::colors;
+use crate::study::style::{colors, Rgb};
 use crate::study::table::{md_table, pct, sig, Csv};
 use crate::study::{check_cancel, Ctx, StudyError};
 
@@ -24,7 +24,11 @@ pub const GOAL: f64 = 300.0;
 pub struct FrontPoint {
     pub segments: u32,
     pub bands: u32,
+    /// The mesh's triangles; 0 for the smooth quadrature, which does not sum over them.
     pub triangles: usize,
+    /// `stone.quadrature: Smooth` (meridian × around nodes): the forces on the smooth lens, the
+    /// mesh above only drawing it and testing its sinking.
+    pub smooth: Option<(u32, u32)>,
     pub tolerance: f64,
     /// `physics.steps_across_ticks`.
     pub across: bool,
@@ -77,6 +81,8 @@ pub struct Front {
 pub struct FrontSettings {
     /// (segments, bands).
     pub meshes: Vec<(u32, u32)>,
+    /// The smooth quadrature's (meridian, around) nodes, on the shipped mesh.
+    pub smooth: Vec<(u32, u32)>,
     pub tolerances: Vec<f64>,
     /// The reference's segments, bands and tolerance (tick-bound steps).
     pub reference: (u32, u32, f64),
@@ -87,12 +93,14 @@ pub fn front_settings(quick: bool) -> FrontSettings {
     if quick {
         FrontSettings {
             meshes: vec![(16, 8)],
+            smooth: vec![(8, 4)],
             tolerances: vec![1e-6, 1e-4],
             reference: (24, 12, 1e-7),
         }
     } else {
         FrontSettings {
             meshes: vec![(32, 16), (32, 32), (48, 24), (48, 32), (64, 32), (96, 48)],
+            smooth: vec![(8, 4), (12, 4), (12, 6), (16, 6)],
             tolerances: vec![1e-6, 1e-5, 1e-4, 1e-3],
             reference: (192, 96, 1e-8),
         }
@@ -109,11 +117,22 @@ pub fn repeats(quick: bool) -> usize {
     }
 }
 
-/// The shipped default throw with the water off, at a mesh, tolerance and step rule.
-fn setting(base: &Preset, segments: u32, bands: u32, tolerance: f64, across: bool) -> Preset {
+/// The shipped default throw with the water off, at a mesh (or the smooth quadrature's nodes on
+/// it), tolerance and step rule.
+fn setting(
+    base: &Preset,
+    (segments, bands): (u32, u32),
+    smooth: Option<(u32, u32)>,
+    tolerance: f64,
+    across: bool,
+) -> Preset {
     let mut p = base.clone();
     p.stone.segments = segments;
     p.stone.bands = Some(bands);
+    p.stone.quadrature = match smooth {
+        Some((meridian, around)) => Quadrature::Smooth { meridian, around },
+        None => Quadrature::Faces,
+    };
     p.physics.tolerance = tolerance;
     p.physics.steps_across_ticks = across;
     p
@@ -152,23 +171,30 @@ pub fn front_sweep(ctx: &Ctx) -> Result<Front, StudyError> {
     );
     let FrontSettings {
         meshes,
+        smooth,
         tolerances,
         reference: (rs, rb, rt),
     } = front_settings(ctx.quick);
     ctx.progress(&format!(
         "real time against error: the stone-only default, reference {rs} × {rb} at {rt:e}"
     ));
-    let reference = measure(&setting(&base, rs, rb, rt, false))?;
-    let mut cases = Vec::new();
-    for &(segments, bands) in &meshes {
-        let triangles = Stone::new(&setting(&base, segments, bands, 1e-6, false).stone)?
+    let reference = measure(&setting(&base, (rs, rb), None, rt, false))?;
+    let shipped_mesh = (shipped.0, shipped.1);
+    let mut discretisations = Vec::new();
+    for &mesh in &meshes {
+        let triangles = Stone::new(&setting(&base, mesh, None, 1e-6, false).stone)?
             .mesh
             .triangles
             .len();
+        discretisations.push((mesh, None, triangles));
+    }
+    discretisations.extend(smooth.iter().map(|&nodes| (shipped_mesh, Some(nodes), 0)));
+    let mut cases = Vec::new();
+    for &(mesh, smooth, triangles) in &discretisations {
         for &tolerance in &tolerances {
             for across in [false, true] {
-                let p = setting(&base, segments, bands, tolerance, across);
-                cases.push((segments, bands, triangles, tolerance, across, p));
+                let p = setting(&base, mesh, smooth, tolerance, across);
+                cases.push((mesh, smooth, triangles, tolerance, across, p));
             }
         }
     }
@@ -188,13 +214,14 @@ pub fn front_sweep(ctx: &Ctx) -> Result<Front, StudyError> {
         .into_iter()
         .zip(best)
         .filter_map(
-            |((segments, bands, triangles, tolerance, across, _), stats)| {
+            |(((segments, bands), smooth, triangles, tolerance, across, _), stats)| {
                 let stats = stats?;
                 let err = errors(&stats, &reference);
                 Some(FrontPoint {
                     segments,
                     bands,
                     triangles,
+                    smooth,
                     tolerance,
                     across,
                     stats,
@@ -237,6 +264,7 @@ pub fn front_csv(front: &Front) -> Csv {
         "segments",
         "bands",
         "triangles",
+        "quadrature",
         "tolerance",
         "across_ticks",
         "skips",
@@ -255,6 +283,7 @@ pub fn front_csv(front: &Front) -> Csv {
             p.segments.into(),
             p.bands.into(),
             p.triangles.into(),
+            quadrature_name(p).into(),
             p.tolerance.into(),
             p.across.into(),
             p.stats.skips.into(),
@@ -292,25 +321,51 @@ pub fn front_chart(ctx: &Ctx, front: &Front) -> Result<(), StudyError> {
         "noise-free cost",
         "triangle evaluations per throw (force evals × triangles)",
     );
-    for (k, &(n, b)) in front_settings(ctx.quick).meshes.iter().enumerate() {
-        let col = colors::CYCLE[k % colors::CYCLE.len()];
+    // The meshes take the palette's colours, the smooth quadratures dark and neutral ones.
+    let smooth_colors = [
+        colors::BLACK,
+        colors::GREY,
+        colors::YELLOW,
+        Rgb(140, 80, 20),
+    ];
+    let (mut meshes, mut smooths) = (0, 0);
+    for key in discretisations(front) {
+        let col = if key.1.is_some() {
+            smooths += 1;
+            smooth_colors[(smooths - 1) % smooth_colors.len()]
+        } else {
+            meshes += 1;
+            colors::CYCLE[(meshes - 1) % 6]
+        };
         for across in [false, true] {
             let pts: Vec<&FrontPoint> = front
                 .points
                 .iter()
-                .filter(|p| p.segments == n && p.bands == b && p.across == across)
+                .filter(|p| same_discretisation(p, key) && p.across == across)
                 .collect();
-            let (label, mark) = if across {
-                (format!("{n} × {b}, across ticks"), Mark::Dashed)
-            } else {
-                (format!("{n} × {b}"), Mark::LinePoints)
+            let Some(first) = pts.first() else {
+                continue;
+            };
+            let mut label = quadrature_name(first);
+            if across {
+                label.push_str(", across ticks");
+            }
+            let mark = match (across, first.smooth.is_some()) {
+                (false, false) => Mark::LinePoints,
+                (true, false) => Mark::Dashed,
+                (false, true) => Mark::Points,
+                (true, true) => Mark::Line,
             };
             let series = |x: &dyn Fn(&FrontPoint) -> f64| {
                 let xy = pts.iter().map(|p| (x(p), p.judged().max(FLOOR))).collect();
                 Series::new(label.clone(), xy, col, mark)
             };
             by_time = by_time.series(series(&|p| p.real_time()));
-            by_work = by_work.series(series(&|p| p.stats.force_evals as f64 * p.triangles as f64));
+            // The smooth quadrature sums over no triangles: real time is its only cost axis.
+            if first.smooth.is_none() {
+                by_work =
+                    by_work.series(series(&|p| p.stats.force_evals as f64 * p.triangles as f64));
+            }
         }
     }
     plot::draw(
@@ -322,12 +377,39 @@ pub fn front_chart(ctx: &Ctx, front: &Front) -> Result<(), StudyError> {
     )
 }
 
+/// What a setting sums the forces over: its mesh, `segments × bands`, or the smooth lens,
+/// `smooth meridian × around`.
+fn quadrature_name(p: &FrontPoint) -> String {
+    match p.smooth {
+        Some((m, a)) => format!("smooth {m} × {a}"),
+        None => format!("{} × {}", p.segments, p.bands),
+    }
+}
+
+/// A mesh, or the smooth quadrature's nodes.
+type Discretisation = ((u32, u32), Option<(u32, u32)>);
+
+fn same_discretisation(p: &FrontPoint, (mesh, smooth): Discretisation) -> bool {
+    p.smooth == smooth && (smooth.is_some() || (p.segments, p.bands) == mesh)
+}
+
+/// The swept meshes, then the smooth quadratures, in the order they were run.
+fn discretisations(front: &Front) -> Vec<Discretisation> {
+    let mut out: Vec<Discretisation> = Vec::new();
+    for p in &front.points {
+        let key = ((p.segments, p.bands), p.smooth);
+        if !out.iter().any(|&k| same_discretisation(p, k)) {
+            out.push(key);
+        }
+    }
+    out
+}
+
 /// A setting's name in the report.
 fn name(p: &FrontPoint) -> String {
     format!(
-        "{} × {}, tolerance {}{}",
-        p.segments,
-        p.bands,
+        "{}, tolerance {}{}",
+        quadrature_name(p),
         sig(p.tolerance, 1),
         if p.across { ", across ticks" } else { "" }
     )
@@ -346,9 +428,9 @@ fn cell(p: &FrontPoint) -> String {
 /// The report's section.
 pub fn front_md(ctx: &Ctx, front: &Front) -> String {
     let FrontSettings {
-        meshes,
         tolerances,
         reference: (rs, rb, rt),
+        ..
     } = front_settings(ctx.quick);
     let r = &front.reference;
     let mut s = String::from("\n## The shipped default, stone only: real time against error\n\n");
@@ -367,16 +449,19 @@ pub fn front_md(ctx: &Ctx, front: &Front) -> String {
             .map(|t| format!("tolerance {}", sig(*t, 1))),
     );
     let mut rows = Vec::new();
-    for &(n, b) in &meshes {
+    for key in discretisations(front) {
         for across in [false, true] {
+            let of = |p: &&FrontPoint| same_discretisation(p, key) && p.across == across;
+            let Some(first) = front.points.iter().find(of) else {
+                continue;
+            };
             let mut row = vec![format!(
-                "{n} × {b}{}",
+                "{}{}",
+                quadrature_name(first),
                 if across { ", across ticks" } else { "" }
             )];
             for &t in &tolerances {
-                let p = front.points.iter().find(|p| {
-                    p.segments == n && p.bands == b && p.across == across && p.tolerance == t
-                });
+                let p = front.points.iter().filter(of).find(|p| p.tolerance == t);
                 row.push(p.map_or_else(|| "–".into(), cell));
             }
             rows.push(row);
@@ -392,11 +477,9 @@ pub fn front_md(ctx: &Ctx, front: &Front) -> String {
 fn front_findings(front: &Front) -> String {
     let mut s = String::from("\n");
     let (sn, sb, st) = front.shipped;
-    if let Some(p) = front
-        .points
-        .iter()
-        .find(|p| p.segments == sn && p.bands == sb && p.tolerance == st && !p.across)
-    {
+    if let Some(p) = front.points.iter().find(|p| {
+        p.smooth.is_none() && p.segments == sn && p.bands == sb && p.tolerance == st && !p.across
+    }) {
         s.push_str(&format!(
             "- The shipped setting ({}): {}× real time, {} force evaluations, distance {}.\n",
             name(p),
@@ -451,6 +534,28 @@ fn front_findings(front: &Front) -> String {
             }
         }
     }
+    // Where the smooth quadrature stands: the fastest of it and of the meshes within 0.1 %.
+    let tight = |smooth: bool| fastest(&|p| p.smooth.is_some() == smooth && p.judged() < 1e-3);
+    if front.points.iter().any(|p| p.smooth.is_some()) {
+        let say = |p: Option<&FrontPoint>| {
+            p.map_or_else(
+                || "none".to_string(),
+                |p| {
+                    format!(
+                        "{} ({}×, {})",
+                        name(p),
+                        sig(p.real_time(), 3),
+                        p.error_text()
+                    )
+                },
+            )
+        };
+        s.push_str(&format!(
+            "- Within 0.1 % with the reference's skips, the fastest smooth quadrature: {}; the fastest mesh: {}.\n",
+            say(tight(true)),
+            say(tight(false))
+        ));
+    }
     let front_pts = pareto(&front.points);
     let list: Vec<String> = front_pts
         .iter()
@@ -479,6 +584,7 @@ mod tests {
             segments: 32,
             bands: 16,
             triangles: 0,
+            smooth: None,
             tolerance: 1e-6,
             across: false,
             stats: RunStats {
