@@ -334,7 +334,7 @@ mod tests {
             "stone.quadrature",
         );
         refused(
-            &format!("(\n  stone: (quadrature: Smooth(meridian: 1, around: 6)),\n)"),
+            "(\n  stone: (quadrature: Smooth(meridian: 1, around: 6)),\n)",
             "stone.quadrature.meridian",
         );
         refused(

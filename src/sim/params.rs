@@ -738,7 +738,7 @@ impl StoneParams {
             for (field, n) in [("meridian", meridian), ("around", around)] {
                 if !(2..=64).contains(&n) {
                     return Err(ParamError::new(
-                        &format!("stone.quadrature.{field}"),
+                        format!("stone.quadrature.{field}"),
                         format!("expected an integer in [2, 64], found {n}"),
                     ));
                 }
