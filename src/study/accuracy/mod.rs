@@ -438,8 +438,20 @@ pub struct BandsPoint {
     pub segments: u32,
     pub bands: u32,
     pub triangles: usize,
+    /// `stone.quadrature: Smooth` (meridian × around): the forces on the smooth lens, not on
+    /// this mesh's faces.
+    pub smooth: Option<(u32, u32)>,
     pub stats: RunStats,
     pub err: Errors,
+}
+
+/// The smooth quadratures (meridian × around nodes) run beside the meshes of the bands sweep.
+pub fn band_smooth(quick: bool) -> Vec<(u32, u32)> {
+    if quick {
+        vec![(8, 4)]
+    } else {
+        vec![(8, 4), (12, 4), (12, 6), (16, 6)]
+    }
 }
 
 /// The (segments, bands) meshes of the bands sweep, the reference first (the finest mesh of
@@ -486,34 +498,52 @@ fn band_cases(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<(String, Preset)>, 
     Ok(cases)
 }
 
-/// Runs each case at each mesh of [`band_meshes`], against the first.
+/// Runs each case at each mesh of [`band_meshes`], and with each smooth quadrature of
+/// [`band_smooth`] on its own mesh, against the first mesh.
 pub fn bands_sweep(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<BandsPoint>, StudyError> {
-    let meshes = band_meshes(ctx.quick);
+    let mut settings: Vec<(Option<(u32, u32)>, Option<(u32, u32)>)> = band_meshes(ctx.quick)
+        .into_iter()
+        .map(|m| (Some(m), None))
+        .collect();
+    settings.extend(band_smooth(ctx.quick).into_iter().map(|s| (None, Some(s))));
     let mut out = Vec::new();
     for (case, preset) in band_cases(ctx, throw_list)? {
         ctx.progress(&format!("segments and bands: {case}"));
-        let runs: Vec<(u32, u32, usize, RunStats)> = meshes
+        type Run = (u32, u32, usize, Option<(u32, u32)>, RunStats);
+        let runs: Vec<Run> = settings
             .par_iter()
-            .map(|&(n, bands)| {
+            .map(|&(mesh, smooth)| {
                 check_cancel()?;
                 let mut p = preset.clone();
-                p.stone.segments = n;
-                p.stone.bands = Some(bands);
-                let tri = Stone::new(&p.stone)?.mesh.triangles.len();
-                Ok((n, bands, tri, measure(&p)?))
+                if let Some((n, bands)) = mesh {
+                    p.stone.segments = n;
+                    p.stone.bands = Some(bands);
+                }
+                if let Some((meridian, around)) = smooth {
+                    p.stone.quadrature =
+                        crate::sim::params::Quadrature::Smooth { meridian, around };
+                }
+                let bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
+                let tri = if smooth.is_some() {
+                    0
+                } else {
+                    Stone::new(&p.stone)?.mesh.triangles.len()
+                };
+                Ok((p.stone.segments, bands, tri, smooth, measure(&p)?))
             })
             .collect::<Result<_, StudyError>>()?;
         let reference = runs
             .first()
-            .map(|r| r.3.clone())
+            .map(|r| r.4.clone())
             .ok_or_else(|| StudyError::Failed("bands reference missing".into()))?;
-        for (segments, bands, triangles, stats) in runs.into_iter().skip(1) {
+        for (segments, bands, triangles, smooth, stats) in runs.into_iter().skip(1) {
             let err = errors(&stats, &reference);
             out.push(BandsPoint {
                 case: case.clone(),
                 segments,
                 bands,
                 triangles,
+                smooth,
                 stats,
                 err,
             });

@@ -4,9 +4,9 @@
 use crate::sim::params::Integrator;
 
 use super::{
-    band_meshes, cheapest_reaching, errors, families, mesh_segments, shipped_tick, BandsPoint,
-    Errors, MeshPoint, Point, Results, RunStats, WaterPoint, FLOOR, LONG_TICK, REF_TICK,
-    WATER_THROW,
+    band_meshes, band_smooth, cheapest_reaching, errors, families, mesh_segments, shipped_tick,
+    BandsPoint, Errors, MeshPoint, Point, Results, RunStats, WaterPoint, FLOOR, LONG_TICK,
+    REF_TICK, WATER_THROW,
 };
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use crate::study::style::{colors, integrator_name, Rgb};
@@ -875,9 +875,28 @@ fn findings_tick_and_sinking(res: &Results) -> String {
 
 /// The bands-sweep runs.
 fn bands_csv(res: &Results) -> Csv {
-    let mut csv = Csv::new(&[&["case", "segments", "bands"][..], &MESH_COLUMNS[..]].concat());
+    let mut csv = Csv::new(
+        &[
+            &[
+                "case",
+                "segments",
+                "bands",
+                "smooth_meridian",
+                "smooth_around",
+            ][..],
+            &MESH_COLUMNS[..],
+        ]
+        .concat(),
+    );
     for m in &res.bands {
-        let mut row = vec![m.case.as_str().into(), m.segments.into(), m.bands.into()];
+        let (meridian, around) = m.smooth.unwrap_or((0, 0));
+        let mut row = vec![
+            m.case.as_str().into(),
+            m.segments.into(),
+            m.bands.into(),
+            meridian.into(),
+            around.into(),
+        ];
         row.extend(mesh_cells(m.triangles, &m.stats, &m.err));
         csv.push(row);
     }
@@ -895,16 +914,22 @@ fn bands_md(ctx: &Ctx, res: &Results) -> String {
     cases.dedup();
     let mut s = String::from("\n## Segments and bands\n\n");
     s.push_str(&format!(
-        "A lens's mesh has two resolutions: `stone.segments` around the rim and `stone.bands` latitude bands from pole to pole, uniform in the polar angle (a preset that names no bands gets half the segments, as every mesh above). Each mesh against {rn} × {rb}, same tick and tolerance as above; cases: {} (the default throw with the water off, its own free rotation, spin and air). Per mesh the worst case: largest distance and contact errors, and whether every case keeps its skips.\n\n",
+        "A lens's mesh has two resolutions: `stone.segments` around the rim and `stone.bands` latitude bands from pole to pole, uniform in the polar angle (a preset that names no bands gets half the segments, as every mesh above). Each mesh against {rn} × {rb}, same tick and tolerance as above; cases: {} (the default throw with the water off, its own free rotation, spin and air). Per mesh the worst case: largest distance and contact errors, and whether every case keeps its skips. The smooth rows integrate the law over the lens's ellipsoid instead of the faces (`stone.quadrature: Smooth`, meridian × around Gauss nodes; `src/sim/smooth.rs`).\n\n",
         cases.join(", ")
     ));
     let mut rows = Vec::new();
     let mut keeping: Vec<(usize, u32, u32, f64)> = Vec::new();
-    for &(n, b) in meshes.iter().skip(1) {
+    let smooth = band_smooth(ctx.quick);
+    let settings = meshes
+        .iter()
+        .skip(1)
+        .map(|&m| (m, None))
+        .chain(smooth.iter().map(|&s| ((0, 0), Some(s))));
+    for ((n, b), smooth) in settings {
         let pts: Vec<&BandsPoint> = res
             .bands
             .iter()
-            .filter(|m| m.segments == n && m.bands == b)
+            .filter(|m| m.smooth == smooth && (smooth.is_some() || (m.segments, m.bands) == (n, b)))
             .collect();
         let Some(first) = pts.first() else {
             continue;
@@ -913,12 +938,19 @@ fn bands_md(ctx: &Ctx, res: &Results) -> String {
         let cont = pts.iter().map(|m| m.err.contact).fold(0.0, f64::max);
         let same = pts.iter().all(|m| m.err.skips == 0);
         let evals: u64 = pts.iter().map(|m| m.stats.force_evals).sum();
-        if same && dist < 0.01 {
+        if same && dist < 0.01 && smooth.is_none() {
             keeping.push((first.triangles, n, b, cont));
         }
         rows.push(vec![
-            format!("{n} × {b}"),
-            first.triangles.to_string(),
+            match smooth {
+                Some((m, a)) => format!("smooth {m} × {a} (on each case's mesh)"),
+                None => format!("{n} × {b}"),
+            },
+            if smooth.is_some() {
+                "–".into()
+            } else {
+                first.triangles.to_string()
+            },
             evals.to_string(),
             if same { "yes".into() } else { "no".into() },
             pct(dist, 2),
