@@ -273,13 +273,17 @@ pub fn lowest_clearance_reference(
 
 /// True when every vertex of the faces whose outward normal points down is below the surface: the
 /// full immersion of the underside at which the stone loses its lift (design.md §4 "sank"). The
-/// kernel's hierarchy search; equal to [`underside_submerged_reference`].
+/// kernel's hierarchy search; equal to [`underside_submerged_reference`]. With the smooth
+/// quadrature over flat water, the smooth lens's own underside.
 pub fn underside_submerged(
     stone: &Stone,
     position: DVec3,
     orientation: DQuat,
     surface: &dyn Surface,
 ) -> bool {
+    if let Some(smooth) = stone.smooth.as_ref().filter(|_| surface.is_flat()) {
+        return smooth.underside_submerged(position, orientation);
+    }
     kernel::underside_submerged(&stone.kernel, position, orientation, surface)
 }
 

@@ -166,6 +166,21 @@ impl SmoothLens {
         self.clearance_in(position.z, u)
     }
 
+    /// Whether the whole underside (the points whose outward normal points down) is below flat
+    /// water: the sink test of `hydro::underside_submerged` on the smooth lens. On a convex body
+    /// the height has no maximum inside the underside, so its highest point is on the silhouette
+    /// N·u = 0, the plane section uᵀM r = 0 (M = diag(a⁻², a⁻², c⁻²)); there the largest u·r is
+    /// √(S − 1/T) with S = uᵀM⁻¹u (the support's square) and T = uᵀMu (Lagrange multipliers).
+    pub fn underside_submerged(&self, position: DVec3, orientation: DQuat) -> bool {
+        let (_, u) = Self::frame(orientation);
+        let h2 = u.x * u.x + u.y * u.y;
+        let (a2, c2) = (self.a * self.a, self.c * self.c);
+        let support2 = a2 * h2 + c2 * u.z * u.z;
+        let t = h2 / a2 + u.z * u.z / c2;
+        let rise = (support2 - 1.0 / t).max(0.0).sqrt();
+        position.z + rise < 0.0
+    }
+
     /// Forces and torque on the lens over flat water (world frame); with `record` the vertical
     /// load of every loaded node is pushed to `loads` for the water coupling.
     pub fn evaluate(
@@ -553,6 +568,36 @@ mod tests {
             let c = smooth.clearance(DVec3::ZERO, q);
             // The sampled minimum is above the true one by at most the sampling's gap.
             assert!(c <= lowest + 1e-15 && c > lowest - 2e-6, "{c} vs {lowest}");
+        }
+    }
+
+    /// The sink test's highest underside point is the highest point of a dense sampling of the
+    /// surface where the normal points down.
+    #[test]
+    fn underside_test_finds_the_highest_point_facing_down() {
+        let smooth = SmoothLens::new(0.05, 0.006, 8, 8);
+        let mut seed = 5;
+        for _ in 0..40 {
+            let q = DQuat::from_rotation_z(6.0 * rng(&mut seed))
+                * DQuat::from_rotation_y(3.0 * rng(&mut seed));
+            let rot = DMat3::from_quat(q);
+            // Sampled in the parametric angle φ (x = a sin φ, z = c cos φ): even in area.
+            let mut highest = f64::NEG_INFINITY;
+            for i in 0..=600 {
+                let (sp, cp) = (std::f64::consts::PI * i as f64 / 600.0).sin_cos();
+                for j in 0..600 {
+                    let (s, c) = (std::f64::consts::TAU * j as f64 / 600.0).sin_cos();
+                    let n = rot * DVec3::new(sp * c / 0.05, sp * s / 0.05, cp / 0.006);
+                    if n.z < 0.0 {
+                        let p = rot * DVec3::new(0.05 * sp * c, 0.05 * sp * s, 0.006 * cp);
+                        highest = highest.max(p.z);
+                    }
+                }
+            }
+            // Just below that height the underside is not all under; well below, it is.
+            let below = |z: f64| smooth.underside_submerged(DVec3::new(0.0, 0.0, z), q);
+            assert!(!below(-highest + 1e-9), "{highest}");
+            assert!(below(-highest - 1e-4), "{highest} {q:?}");
         }
     }
 

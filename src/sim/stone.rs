@@ -303,7 +303,7 @@ pub struct Stone {
     /// The mesh arranged for the force kernel (struct-of-arrays, bounding hierarchies).
     pub kernel: KernelMesh,
     /// `stone.quadrature: Smooth`: the lens's smooth ellipsoid, on which the forces are
-    /// integrated over flat water (the mesh then only draws it and tests its sinking).
+    /// integrated over flat water (its clearance and sink test too: the mesh then only draws it).
     pub smooth: Option<SmoothLens>,
 }
 

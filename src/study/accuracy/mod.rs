@@ -501,7 +501,8 @@ fn band_cases(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<(String, Preset)>, 
 /// Runs each case at each mesh of [`band_meshes`], and with each smooth quadrature of
 /// [`band_smooth`] on its own mesh, against the first mesh.
 pub fn bands_sweep(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<BandsPoint>, StudyError> {
-    let mut settings: Vec<(Option<(u32, u32)>, Option<(u32, u32)>)> = band_meshes(ctx.quick)
+    type Setting = (Option<(u32, u32)>, Option<(u32, u32)>);
+    let mut settings: Vec<Setting> = band_meshes(ctx.quick)
         .into_iter()
         .map(|m| (Some(m), None))
         .collect();
