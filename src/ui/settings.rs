@@ -517,13 +517,26 @@ fn quadrature_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
             };
         }
         if let Quadrature::Smooth { meridian, around } = &mut stone.quadrature {
-            for (n, suffix) in [(meridian, " × "), (around, " nodes")] {
-                let s = ui.add(
-                    Slider::new(n, 2..=64)
-                        .custom_parser(parse_finite)
-                        .clamping(SliderClamping::Always)
-                        .suffix(suffix),
-                );
+            for (n, suffix, tip) in [
+                (
+                    meridian,
+                    " ×",
+                    "Gauss nodes along the wet latitudes (per range)",
+                ),
+                (
+                    around,
+                    " nodes",
+                    "Gauss nodes around each piece of a wet arc",
+                ),
+            ] {
+                let s = ui
+                    .add(
+                        egui::DragValue::new(n)
+                            .range(2..=64)
+                            .custom_parser(parse_finite)
+                            .suffix(suffix),
+                    )
+                    .on_hover_text(tip);
                 if s.changed() {
                     r.mark_changed();
                 }
