@@ -548,23 +548,32 @@ mod tests {
         }
     }
 
+    /// Every point of the lens (a = 0.05, c = 0.006) on an n × n grid of the parametric angle φ
+    /// (x = a sin φ, z = c cos φ: even in area) and the azimuth, turned by a random rotation: the
+    /// offset from the centre and the outward normal's direction, world axes.
+    fn sampled_surface(seed: &mut u64, n: usize) -> (DQuat, Vec<(DVec3, DVec3)>) {
+        let q = DQuat::from_rotation_z(6.0 * rng(seed)) * DQuat::from_rotation_y(3.0 * rng(seed));
+        let rot = DMat3::from_quat(q);
+        let mut out = Vec::with_capacity((n + 1) * n);
+        for i in 0..=n {
+            let (sp, cp) = (std::f64::consts::PI * i as f64 / n as f64).sin_cos();
+            for j in 0..n {
+                let (s, c) = (std::f64::consts::TAU * j as f64 / n as f64).sin_cos();
+                let p = rot * DVec3::new(0.05 * sp * c, 0.05 * sp * s, 0.006 * cp);
+                let normal = rot * DVec3::new(sp * c / 0.05, sp * s / 0.05, cp / 0.006);
+                out.push((p, normal));
+            }
+        }
+        (q, out)
+    }
+
     #[test]
     fn clearance_is_the_lowest_point_of_the_ellipsoid() {
         let smooth = SmoothLens::new(0.05, 0.006, 8, 8);
         let mut seed = 3;
-        for _ in 0..50 {
-            let q = DQuat::from_rotation_z(6.0 * rng(&mut seed))
-                * DQuat::from_rotation_y(3.0 * rng(&mut seed));
-            let rot = DMat3::from_quat(q);
-            let mut lowest = f64::INFINITY;
-            for i in 0..=400 {
-                for j in 0..400 {
-                    let m = smooth.at(std::f64::consts::PI * i as f64 / 400.0);
-                    let th = std::f64::consts::TAU * j as f64 / 400.0;
-                    let p = rot * DVec3::new(m.rho * th.cos(), m.rho * th.sin(), m.z);
-                    lowest = lowest.min(p.z);
-                }
-            }
+        for _ in 0..40 {
+            let (q, points) = sampled_surface(&mut seed, 600);
+            let lowest = points.iter().map(|(p, _)| p.z).fold(f64::INFINITY, f64::min);
             let c = smooth.clearance(DVec3::ZERO, q);
             // The sampled minimum is above the true one by at most the sampling's gap.
             assert!(c <= lowest + 1e-15 && c > lowest - 2e-6, "{c} vs {lowest}");
@@ -578,22 +587,12 @@ mod tests {
         let smooth = SmoothLens::new(0.05, 0.006, 8, 8);
         let mut seed = 5;
         for _ in 0..40 {
-            let q = DQuat::from_rotation_z(6.0 * rng(&mut seed))
-                * DQuat::from_rotation_y(3.0 * rng(&mut seed));
-            let rot = DMat3::from_quat(q);
-            // Sampled in the parametric angle φ (x = a sin φ, z = c cos φ): even in area.
-            let mut highest = f64::NEG_INFINITY;
-            for i in 0..=600 {
-                let (sp, cp) = (std::f64::consts::PI * i as f64 / 600.0).sin_cos();
-                for j in 0..600 {
-                    let (s, c) = (std::f64::consts::TAU * j as f64 / 600.0).sin_cos();
-                    let n = rot * DVec3::new(sp * c / 0.05, sp * s / 0.05, cp / 0.006);
-                    if n.z < 0.0 {
-                        let p = rot * DVec3::new(0.05 * sp * c, 0.05 * sp * s, 0.006 * cp);
-                        highest = highest.max(p.z);
-                    }
-                }
-            }
+            let (q, points) = sampled_surface(&mut seed, 600);
+            let highest = points
+                .iter()
+                .filter(|(_, n)| n.z < 0.0)
+                .map(|(p, _)| p.z)
+                .fold(f64::NEG_INFINITY, f64::max);
             // Just below that height the underside is not all under; well below, it is.
             let below = |z: f64| smooth.underside_submerged(DVec3::new(0.0, 0.0, z), q);
             assert!(!below(-highest + 1e-9), "{highest}");
