@@ -6,8 +6,8 @@
 
 use proptest::prelude::*;
 use stoneskip::sim::params::{
-    Attitude, ForceLaw, Integrator, Limiter, Precision, Preset, PressureCentre, Rotation, Shape,
-    StoneParams,
+    Attitude, AxialSpin, ForceLaw, Integrator, Limiter, Precision, Preset, PressureCentre,
+    Quadrature, Rotation, Shape, StoneParams,
 };
 use stoneskip::sim::{Simulation, Summary};
 
@@ -82,6 +82,7 @@ fn preset() -> impl Strategy<Value = Preset> {
             any::<bool>(),
             prop::option::of(0.0..=1.0f64),
         ),
+        (any::<bool>(), 2u32..24, 2u32..12),
     )
         .prop_map(
             |(
@@ -91,6 +92,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                 (law, integ, vent, free),
                 (dt, cl, cf),
                 (water, wavy, paper_clamp, f64_water, planing),
+                (smooth, meridian, around),
             )| {
                 let mut p = Preset::default();
                 p.stone = StoneParams {
@@ -142,6 +144,11 @@ fn preset() -> impl Strategy<Value = Preset> {
                 };
                 p.physics.pressure_centre =
                     planing.map_or(PressureCentre::Faces, PressureCentre::Planing);
+                if smooth {
+                    // The smooth lens (flat water only; validation refuses the rest).
+                    p.stone.quadrature = Quadrature::Smooth { meridian, around };
+                    p.physics.axial_spin = AxialSpin::Resal;
+                }
                 p
             },
         )
@@ -206,6 +213,20 @@ fn corner_cases_end_cleanly() {
     p.physics.gravity = 0.0;
     p.launch.velocity = [1.0, 0.0, 0.5];
     cases.push(p);
+    // Every corner again on the smooth lens.
+    let smooth: Vec<Preset> = cases
+        .iter()
+        .map(|p| {
+            let mut p = p.clone();
+            p.stone.quadrature = Quadrature::Smooth {
+                meridian: 8,
+                around: 4,
+            };
+            p.physics.axial_spin = AxialSpin::Resal;
+            p
+        })
+        .collect();
+    cases.extend(smooth);
     for p in cases {
         p.validate().unwrap();
         run(&p);

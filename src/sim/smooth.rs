@@ -573,7 +573,10 @@ mod tests {
         let mut seed = 3;
         for _ in 0..40 {
             let (q, points) = sampled_surface(&mut seed, 600);
-            let lowest = points.iter().map(|(p, _)| p.z).fold(f64::INFINITY, f64::min);
+            let lowest = points
+                .iter()
+                .map(|(p, _)| p.z)
+                .fold(f64::INFINITY, f64::min);
             let c = smooth.clearance(DVec3::ZERO, q);
             // The sampled minimum is above the true one by at most the sampling's gap.
             assert!(c <= lowest + 1e-15 && c > lowest - 2e-6, "{c} vs {lowest}");
