@@ -617,6 +617,12 @@ impl Simulation {
     /// water grid alike (gravity and density set the grid's flow law and its automatic step).
     pub fn set_physics(&mut self, physics: Physics) -> Result<(), ParamError> {
         physics.validate()?;
+        // The smooth quadrature's own conditions (a smooth spin, no planing centre).
+        Preset {
+            physics,
+            ..self.preset.clone()
+        }
+        .check_quadrature()?;
         if let Some(w) = self.water.as_mut() {
             w.set_constants(physics.gravity, physics.water_density)?;
         }
@@ -1714,6 +1720,36 @@ pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Live physics edits keep a smooth stone's conditions: a faceted spin under free rotation or
+    /// a planing centre is refused with the field named, and the run goes on as it was.
+    #[test]
+    fn live_physics_keeps_the_smooth_quadrature_consistent() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        p.stone.quadrature = params::Quadrature::Smooth {
+            meridian: 8,
+            around: 4,
+        };
+        let mut sim = Simulation::new(&p).unwrap();
+        let mut faceted = p.physics;
+        faceted.rotation = Rotation::Free;
+        faceted.axial_spin = params::AxialSpin::Faceted;
+        assert_eq!(
+            sim.set_physics(faceted).unwrap_err().field,
+            "physics.axial_spin"
+        );
+        let mut planing = p.physics;
+        planing.pressure_centre = params::PressureCentre::Planing(0.75);
+        assert_eq!(
+            sim.set_physics(planing).unwrap_err().field,
+            "physics.pressure_centre"
+        );
+        assert_eq!(sim.preset.physics, p.physics);
+        let mut heavier = p.physics;
+        heavier.gravity = 12.0;
+        sim.set_physics(heavier).unwrap();
+    }
 
     /// Finding S3: a costly tick's face impulses are handed to the water once they reach the
     /// flush bound, not kept to the tick's end; the grid sums them per column in the same order,

@@ -652,7 +652,7 @@ impl Preset {
     }
 
     /// `stone.quadrature: Smooth` integrates over a smooth body on flat water.
-    fn check_quadrature(&self) -> Result<(), ParamError> {
+    pub fn check_quadrature(&self) -> Result<(), ParamError> {
         if self.stone.quadrature.is_faces() {
             return Ok(());
         }
