@@ -21,12 +21,13 @@
 //! that appears does so with zero width, so the force stays continuous for the step control.
 //!
 //! The clearance is the ellipsoid's support function, z₀ − √(a²|u_xy|² + c²u_z²), exact. Faces of
-//! the mesh converge to these integrals as it is refined (tests): the mesh's error is its facets',
-//! the quadrature's its nodes', which fall far faster. The law, the frames and the options
-//! (ventilation, pressure sign, hydrostatic pressure) are `hydro::face_force`'s, called at each
-//! node with the node's area; the axial spin is not felt as normal velocity (the smooth body's
-//! `axial_spin`), and the pressure passes through the axis (r × N ⊥ a), so it takes no axial
-//! torque.
+//! the mesh converge to these integrals as it is refined (tests). The law, the frames and the
+//! options (ventilation, pressure sign, hydrostatic pressure) are `hydro::face_force`'s, called at
+//! each node with the node's area; a ventilated piece receding from the water carries only the
+//! hydrostatic pressure (`hydrostatic: WettedFaces`), integrated there in closed form (depth and
+//! normal are first harmonics in θ). The axial spin is not felt as normal velocity (the smooth
+//! body's `axial_spin`), and the pressure passes through the axis (r × N ⊥ a), so it takes no
+//! axial torque.
 
 use glam::{DMat3, DQuat, DVec3};
 
@@ -326,8 +327,14 @@ impl SmoothLens {
             }
             // Gauss nodes come in pairs ±x: cos and sin of pm ± ph x from one sin_cos each.
             let (sm, cm) = pm.sin_cos();
-            // A receding piece carries nothing when only the loaded faces feel the water.
-            if receding_is_dry && p + q * cm + s * sm <= 0.0 {
+            let receding = hp.ventilated && p + q * cm + s * sm <= 0.0;
+            // A receding piece carries nothing when only the loaded faces feel the water, and
+            // only the hydrostatic pressure when every wetted face does: that one in closed form.
+            if receding && receding_is_dry {
+                continue;
+            }
+            if receding {
+                hydrostatic_piece(cx, lat, ph, (sm, cm), acc, sink.as_deref_mut());
                 continue;
             }
             for &(x, w) in &self.around_half {
@@ -390,6 +397,55 @@ impl SmoothLens {
                 footprint: area * cx.u.dot(normal).abs(),
             });
         }
+    }
+}
+
+/// The hydrostatic load ρ g d on a piece [pm − ph, pm + ph] of a latitude's wet arc (its half
+/// width ph, and sin and cos of its middle pm), exactly: the depth d = D₀ − ρ(u_x cos θ +
+/// u_y sin θ) and the normal are first harmonics in θ, so the force −ρ g ∫ d N dA and its torque
+/// (r × N = k (sin θ, −cos θ, 0)) are integrals of products of two.
+fn hydrostatic_piece(
+    cx: &Ctx,
+    lat: &Latitude,
+    ph: f64,
+    (sm, cm): (f64, f64),
+    acc: &mut Sums,
+    sink: Option<&mut Loads>,
+) {
+    let m = &lat.m;
+    let (sh, ch) = ph.sin_cos();
+    let (sa, ca) = (sm * ch - cm * sh, cm * ch + sm * sh);
+    let (sb, cb) = (sm * ch + cm * sh, cm * ch - sm * sh);
+    let len = 2.0 * ph;
+    // ∫cos, ∫sin, ∫cos², ∫sin², ∫sin cos over the piece.
+    let (ic, is) = (sb - sa, ca - cb);
+    let icc = 0.5 * len + 0.5 * (sb * cb - sa * ca);
+    let (iss, ics) = (len - icc, 0.5 * (sb * sb - sa * sa));
+    let d0 = -(cx.z0 + cx.u.z * m.z);
+    let (ux, uy) = (m.rho * cx.u.x, m.rho * cx.u.y);
+    let i_d = d0 * len - (ux * ic + uy * is);
+    let i_dc = d0 * ic - (ux * icc + uy * ics);
+    let i_ds = d0 * is - (ux * ics + uy * iss);
+    let scale = -cx.hp.rho_g * lat.weight;
+    let f = DVec3::new(m.sin * i_dc, m.sin * i_ds, m.cos * i_d) * scale;
+    if f == DVec3::ZERO {
+        return;
+    }
+    let area = lat.weight * len;
+    acc.area += area;
+    acc.force += f;
+    acc.torque += DVec3::new(i_ds, -i_dc, 0.0) * (scale * lat.k);
+    if let Some(sink) = sink {
+        // One load at the piece's middle carries its whole vertical force.
+        let r_b = DVec3::new(m.rho * cm, m.rho * sm, m.z);
+        let normal = DVec3::new(m.sin * cm, m.sin * sm, m.cos);
+        let world = sink.position + *sink.rot * r_b;
+        sink.loads.push(FaceLoad {
+            x: world.x,
+            y: world.y,
+            fz: (*sink.rot * f).z,
+            footprint: area * cx.u.dot(normal).abs(),
+        });
     }
 }
 
