@@ -23,7 +23,7 @@ use stoneskip::sim::hydro::{
     evaluate, evaluate_reference, lowest_clearance, lowest_clearance_reference,
     underside_submerged, underside_submerged_reference, FlatSurface, HydroParams, Pose, Scratch,
 };
-use stoneskip::sim::params::{Integrator, Physics, Preset, Shape, StoneParams};
+use stoneskip::sim::params::{Integrator, Physics, Preset, Quadrature, Shape, StoneParams};
 use stoneskip::sim::stone::Stone;
 use stoneskip::sim::{simulate, Summary};
 use stoneskip::study::throws;
@@ -31,6 +31,11 @@ use stoneskip::study::throws;
 const POSES: [&str; 4] = ["grazing", "mid", "deep", "free"];
 
 fn lens(segments: u32) -> Stone {
+    lens_with(segments, Quadrature::Faces)
+}
+
+/// The lens with `quadrature` (its mesh at `segments` places the poses and draws it).
+fn lens_with(segments: u32, quadrature: Quadrature) -> Stone {
     Stone::new(&StoneParams {
         shape: Shape::Lens {
             radius: 0.05,
@@ -39,10 +44,13 @@ fn lens(segments: u32) -> Stone {
         mass: 0.1,
         segments,
         bands: None,
-        quadrature: Default::default(),
+        quadrature,
     })
     .expect("valid stone")
 }
+
+/// The smooth quadrature benched beside the meshes: (meridian, around) nodes.
+const SMOOTH: (u32, u32) = (12, 6);
 
 /// The default throw's attitude (tilt 20°) and velocity, at a depth of `fraction` of the stone's
 /// vertical extent; "free" tilts and banks it and spins it.
@@ -259,6 +267,17 @@ fn main() {
         }
         group.finish();
     }
+    let (meridian, around) = SMOOTH;
+    let smooth = lens_with(64, Quadrature::Smooth { meridian, around });
+    let mut group = c.benchmark_group(format!("force/smooth {meridian}x{around}"));
+    for name in POSES {
+        let p = pose(&smooth, name);
+        let mut s = Scratch::default();
+        group.bench_function(name, |b| {
+            b.iter(|| run("fast", &smooth, &hp, black_box(&p), &mut s))
+        });
+    }
+    group.finish();
     println!("\nsummary (median ns per call; reference / fast):");
     for (n, stone) in &cases {
         for name in POSES {
@@ -279,6 +298,18 @@ fn main() {
                 r / f
             );
         }
+    }
+    for name in POSES {
+        let p = pose(&smooth, name);
+        let sm = median_ns("fast", &smooth, &hp, &p);
+        let faces: Vec<String> = cases
+            .iter()
+            .map(|(n, stone)| format!("{n} faces {:.1}x", median_ns("fast", stone, &hp, &p) / sm))
+            .collect();
+        println!(
+            "  smooth {meridian}x{around} {name:>8}: {sm:>9.0} ns; the meshes' fast path over it: {}",
+            faces.join(", ")
+        );
     }
     c.final_summary();
 }
