@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use arbitrary::{Result, Unstructured};
 use stoneskip::sim::params::{
     AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Limiter, NearField, Precision, Preset,
-    PressureCentre, PressureSign, Rotation, Shape, SpectralParams, Swell,
+    PressureCentre, PressureSign, Quadrature, Rotation, Shape, SpectralParams, Swell,
 };
 use stoneskip::sim::Simulation;
 
@@ -195,7 +195,27 @@ pub fn preset(u: &mut Unstructured) -> Result<Preset> {
     options(u, &mut p)?;
     near_field(u, &mut p)?;
     numerics(u, &mut p)?;
+    quadrature(u, &mut p)?;
     Ok(p)
+}
+
+/// The smooth quadrature (read last, so inputs saved before it keep their meaning): on a lens
+/// over flat water, with a smooth spin, as its validation asks.
+fn quadrature(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
+    if u.arbitrary()? {
+        p.stone.quadrature = Quadrature::Smooth {
+            meridian: u.int_in_range(2..=64)?,
+            around: u.int_in_range(2..=64)?,
+        };
+        p.water.wavy_contact = false;
+        if p.physics.rotation == Rotation::Free {
+            p.physics.axial_spin = AxialSpin::Resal;
+        }
+        if p.physics.pressure_centre != PressureCentre::Faces {
+            p.physics.pressure_centre = PressureCentre::Faces;
+        }
+    }
+    Ok(())
 }
 
 /// The largest force evaluations per simulated second seen in this process (f64 bits).
