@@ -72,6 +72,13 @@ const MODEL: &[(&str, &str, &str)] = &[
         "the paper §3.1–3.2, Fig. 5",
     ),
     (
+        "Smooth lens",
+        "An option for a lens over flat water (Stone panel, Forces on): the same law summed over \
+         the smooth ellipsoid the mesh stands for, at Gauss nodes along the wet latitudes and \
+         around each waterline arc, found exactly instead of clipped; the mesh then only draws it.",
+        "Gauss–Legendre quadrature; docs/studies/kernel.md",
+    ),
+    (
         "Paper law",
         "Each wetted face is pushed along its normal by ½ C_l ρ v_n² S and dragged by \
          ½ C_f ρ |V_t|² S.",
