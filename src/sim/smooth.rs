@@ -43,10 +43,8 @@ pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
         if 2 * i + 1 == n {
             x = 0.0;
         }
-        let mut dp = 1.0;
         for _ in 0..100 {
             let (p, d) = legendre(n, x);
-            dp = d;
             let dx = p / d;
             x -= dx;
             if dx.abs() <= 1e-16 {
@@ -54,10 +52,7 @@ pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
             }
         }
         let (_, d) = legendre(n, x);
-        if d.is_finite() {
-            dp = d;
-        }
-        let w = 2.0 / ((1.0 - x * x) * dp * dp);
+        let w = 2.0 / ((1.0 - x * x) * d * d);
         out[i] = (-x, w);
         out[n - 1 - i] = (x, w);
     }
@@ -227,8 +222,8 @@ impl SmoothLens {
             theta_u: u.y.atan2(u.x),
             v_b: rt * pose.velocity,
             w_b,
-            w_perp: DVec3::new(w_b.x, w_b.y, 0.0),
             speed: pose.velocity.length(),
+            receding_is_dry: hp.ventilated && !(hp.hydrostatic_wetted && hp.rho_g != 0.0),
         };
         let mut acc = Sums::default();
         let mut sink = record.then_some(Loads {
@@ -256,10 +251,16 @@ impl SmoothLens {
                     continue;
                 }
                 let m = self.at(mid - half * cos_t);
+                let k = m.rho * m.cos - m.z * m.sin;
+                // Only ω's part across the axis, ω⊥ = (ω_x, ω_y, 0), moves the smooth surface
+                // along its normal: ω⊥ · (r × N) = k (ω_x sin θ − ω_y cos θ).
                 let lat = Latitude {
                     m,
                     weight: weight * m.rho * m.curvature_radius,
-                    k: m.rho * m.cos - m.z * m.sin,
+                    k,
+                    p: m.cos * cx.v_b.z,
+                    q: m.sin * cx.v_b.x - k * cx.w_b.y,
+                    s: m.sin * cx.v_b.y + k * cx.w_b.x,
                 };
                 self.latitude(&cx, &lat, &mut acc, sink.as_mut());
             }
@@ -290,10 +291,8 @@ impl SmoothLens {
             let beta = (a_coef / b_coef).acos();
             (cx.theta_u + PI - beta, 2.0 * beta)
         };
-        // The normal velocity P + Q cos θ + S sin θ, and where it changes sign inside the arc.
-        let p = m.cos * cx.v_b.z;
-        let q = m.sin * cx.v_b.x - lat.k * cx.w_perp.y;
-        let s = m.sin * cx.v_b.y + lat.k * cx.w_perp.x;
+        // Where the normal velocity P + Q cos θ + S sin θ changes sign inside the arc.
+        let (p, q, s) = (lat.p, lat.q, lat.s);
         let r = q.hypot(s);
         let mut cuts = [0.0, width, width, width];
         let mut n = 1;
@@ -315,8 +314,6 @@ impl SmoothLens {
             }
         }
         cuts[n] = width;
-        let hp = cx.hp;
-        let receding_is_dry = hp.ventilated && !(hp.hydrostatic_wetted && hp.rho_g != 0.0);
         for piece in cuts[..=n].windows(2) {
             let (pm, ph) = (
                 start + 0.5 * (piece[0] + piece[1]),
@@ -327,10 +324,10 @@ impl SmoothLens {
             }
             // Gauss nodes come in pairs ±x: cos and sin of pm ± ph x from one sin_cos each.
             let (sm, cm) = pm.sin_cos();
-            let receding = hp.ventilated && p + q * cm + s * sm <= 0.0;
+            let receding = cx.hp.ventilated && p + q * cm + s * sm <= 0.0;
             // A receding piece carries nothing when only the loaded faces feel the water, and
             // only the hydrostatic pressure when every wetted face does: that one in closed form.
-            if receding && receding_is_dry {
+            if receding && cx.receding_is_dry {
                 continue;
             }
             if receding {
@@ -346,57 +343,40 @@ impl SmoothLens {
                 let sides: &[f64] = if x == 0.0 { &[1.0] } else { &[1.0, -1.0] };
                 for &sign in sides {
                     let (sn, cs) = (sm * cx_ + sign * cm * sx, cm * cx_ - sign * sm * sx);
-                    self.node(
-                        cx,
-                        lat,
-                        (sn, cs),
-                        (p, q, s),
-                        w * ph,
-                        acc,
-                        sink.as_deref_mut(),
-                    );
+                    node(cx, lat, (sn, cs), w * ph, acc, sink.as_deref_mut());
                 }
             }
         }
     }
+}
 
-    /// One node of a latitude's arc at azimuth (sin θ, cos θ), normal velocity P + Q cos θ +
-    /// S sin θ, weight `w` in θ.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    fn node(
-        &self,
-        cx: &Ctx,
-        lat: &Latitude,
-        (sn, cs): (f64, f64),
-        (p, q, s): (f64, f64, f64),
-        w: f64,
-        acc: &mut Sums,
-        sink: Option<&mut Loads>,
-    ) {
-        let m = &lat.m;
-        let r_b = DVec3::new(m.rho * cs, m.rho * sn, m.z);
-        let normal = DVec3::new(m.sin * cs, m.sin * sn, m.cos);
-        let area = lat.weight * w;
-        let v = cx.v_b + cx.w_b.cross(r_b);
-        let vn = p + q * cs + s * sn;
-        let depth = -(cx.z0 + cx.u.dot(r_b));
-        let f = face_force(cx.hp, normal, area, v, vn, cx.speed, depth);
-        if f == DVec3::ZERO {
-            return;
-        }
-        acc.area += area;
-        acc.force += f;
-        acc.torque += r_b.cross(f);
-        if let Some(sink) = sink {
-            let world = sink.position + *sink.rot * r_b;
-            sink.loads.push(FaceLoad {
-                x: world.x,
-                y: world.y,
-                fz: (*sink.rot * f).z,
-                footprint: area * cx.u.dot(normal).abs(),
-            });
-        }
+/// One node of a latitude's arc at azimuth (sin θ, cos θ), weight `w` in θ: the law of
+/// `hydro::face_force` with the node's area.
+#[inline(always)]
+fn node(
+    cx: &Ctx,
+    lat: &Latitude,
+    (sn, cs): (f64, f64),
+    w: f64,
+    acc: &mut Sums,
+    sink: Option<&mut Loads>,
+) {
+    let m = &lat.m;
+    let r_b = DVec3::new(m.rho * cs, m.rho * sn, m.z);
+    let normal = DVec3::new(m.sin * cs, m.sin * sn, m.cos);
+    let area = lat.weight * w;
+    let v = cx.v_b + cx.w_b.cross(r_b);
+    let vn = lat.p + lat.q * cs + lat.s * sn;
+    let depth = -(cx.z0 + cx.u.dot(r_b));
+    let f = face_force(cx.hp, normal, area, v, vn, cx.speed, depth);
+    if f == DVec3::ZERO {
+        return;
+    }
+    acc.area += area;
+    acc.force += f;
+    acc.torque += r_b.cross(f);
+    if let Some(sink) = sink {
+        sink.push(r_b, f, area * cx.u.dot(normal).abs());
     }
 }
 
@@ -439,13 +419,7 @@ fn hydrostatic_piece(
         // One load at the piece's middle carries its whole vertical force.
         let r_b = DVec3::new(m.rho * cm, m.rho * sm, m.z);
         let normal = DVec3::new(m.sin * cm, m.sin * sm, m.cos);
-        let world = sink.position + *sink.rot * r_b;
-        sink.loads.push(FaceLoad {
-            x: world.x,
-            y: world.y,
-            fz: (*sink.rot * f).z,
-            footprint: area * cx.u.dot(normal).abs(),
-        });
+        sink.push(r_b, f, area * cx.u.dot(normal).abs());
     }
 }
 
@@ -461,10 +435,11 @@ struct Ctx<'a> {
     theta_u: f64,
     v_b: DVec3,
     w_b: DVec3,
-    /// ω without its axial part: what the smooth body's normal velocity feels.
-    w_perp: DVec3,
     /// Centre-of-mass speed U.
     speed: f64,
+    /// A ventilated piece receding from the water carries nothing (only the loaded faces feel
+    /// the hydrostatic pressure, or there is none).
+    receding_is_dry: bool,
 }
 
 /// Where the loads of a recorded evaluation go (world frame).
@@ -474,12 +449,28 @@ struct Loads<'a> {
     loads: &'a mut Vec<FaceLoad>,
 }
 
-/// One wet latitude: its meridian point, the weight of its ψ node times ρR, and k = ρ cos ψ −
-/// z sin ψ (r × N = k (sin θ, −cos θ, 0)).
+impl Loads<'_> {
+    /// The vertical load of force `f` (body frame) acting at `r_b`, over `footprint` m².
+    fn push(&mut self, r_b: DVec3, f: DVec3, footprint: f64) {
+        let world = self.position + *self.rot * r_b;
+        self.loads.push(FaceLoad {
+            x: world.x,
+            y: world.y,
+            fz: (*self.rot * f).z,
+            footprint,
+        });
+    }
+}
+
+/// One wet latitude: its meridian point, the weight of its ψ node times ρR, k = ρ cos ψ −
+/// z sin ψ (r × N = k (sin θ, −cos θ, 0)), and its normal velocity P + Q cos θ + S sin θ.
 struct Latitude {
     m: Meridian,
     weight: f64,
     k: f64,
+    p: f64,
+    q: f64,
+    s: f64,
 }
 
 #[derive(Default)]
