@@ -31,6 +31,7 @@ use glam::{DQuat, DVec3};
 use super::contact::{clip_triangle, WettedPatch};
 use super::kernel::{self, KernelScratch};
 use super::params::{ForceLaw, Hydrostatic, Physics, PressureCentre, PressureSign};
+use super::smooth::SmoothLens;
 use super::stone::Stone;
 
 /// The constants of one force evaluation.
@@ -228,6 +229,12 @@ pub struct FaceLoad {
     pub footprint: f64,
 }
 
+/// The stone's smooth lens when it is what meets `surface` (`stone.quadrature: Smooth` over flat
+/// water; its forces, clearance and sink test are then the smooth body's, not the mesh's).
+fn smooth_over<'a>(stone: &'a Stone, surface: &dyn Surface) -> Option<&'a SmoothLens> {
+    stone.smooth.as_ref().filter(|_| surface.is_flat())
+}
+
 /// Signed height of the stone's lowest vertex above the surface (the kernel's hierarchy search;
 /// equal to [`lowest_clearance_reference`]); with the smooth quadrature over flat water, of the
 /// smooth lens's lowest point.
@@ -237,7 +244,7 @@ pub fn lowest_clearance(
     orientation: DQuat,
     surface: &dyn Surface,
 ) -> f64 {
-    if let Some(smooth) = stone.smooth.as_ref().filter(|_| surface.is_flat()) {
+    if let Some(smooth) = smooth_over(stone, surface) {
         return smooth.clearance(position, orientation);
     }
     kernel::lowest_clearance(
@@ -281,7 +288,7 @@ pub fn underside_submerged(
     orientation: DQuat,
     surface: &dyn Surface,
 ) -> bool {
-    if let Some(smooth) = stone.smooth.as_ref().filter(|_| surface.is_flat()) {
+    if let Some(smooth) = smooth_over(stone, surface) {
         return smooth.underside_submerged(position, orientation);
     }
     kernel::underside_submerged(&stone.kernel, position, orientation, surface)
@@ -324,7 +331,7 @@ pub fn evaluate(
     scratch: &mut Scratch,
     record: bool,
 ) -> ForceSum {
-    if let Some(smooth) = stone.smooth.as_ref().filter(|_| surface.is_flat()) {
+    if let Some(smooth) = smooth_over(stone, surface) {
         return smooth.evaluate(hp, pose, &mut scratch.loads, record);
     }
     if !kernel::fast_path_supports(hp) {

@@ -368,10 +368,11 @@ impl Stone {
     }
 
     /// How far the lowest vertex can stand above the lowest point of its rings over a surface of
-    /// slope at most `slope` (`integrate::RevolutionBound`); 0 for the smooth lens, whose own
-    /// surface is what meets the water. `None` for a mesh that is not rings.
+    /// slope at most `slope` (`integrate::RevolutionBound`); 0 for the smooth lens over flat water,
+    /// where its own surface is what meets the water (elsewhere the mesh does, as in `hydro`).
+    /// `None` for a mesh that is not rings.
     pub fn facet_gap(&self, slope: f64) -> Option<f64> {
-        if self.smooth.is_some() {
+        if self.smooth.is_some() && slope == 0.0 {
             return Some(0.0);
         }
         self.kernel.facet_gap(slope)
