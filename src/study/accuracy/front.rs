@@ -10,7 +10,10 @@
 use crate::sim::params::{Preset, Quadrature};
 use crate::sim::stone::Stone;
 
-use super::{errors, measure, shipped_default, Errors, RunStats, FLOOR};
+use super::{
+    discretisation_name, errors, is_discretisation, measure, shipped_default, Discretisation,
+    Errors, RunStats, FLOOR,
+};
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use crate::study::style::{colors, Rgb};
 use crate::study::table::{md_table, pct, sig, Csv};
@@ -38,6 +41,10 @@ pub struct FrontPoint {
 }
 
 impl FrontPoint {
+    pub fn discretisation(&self) -> Discretisation {
+        ((self.segments, self.bands), self.smooth)
+    }
+
     /// Simulated seconds per wall-clock second.
     pub fn real_time(&self) -> f64 {
         self.stats.final_time / self.stats.wall.max(1e-9)
@@ -341,7 +348,7 @@ pub fn front_chart(ctx: &Ctx, front: &Front) -> Result<(), StudyError> {
             let pts: Vec<&FrontPoint> = front
                 .points
                 .iter()
-                .filter(|p| same_discretisation(p, key) && p.across == across)
+                .filter(|p| is_discretisation(p.discretisation(), key) && p.across == across)
                 .collect();
             let Some(first) = pts.first() else {
                 continue;
@@ -377,29 +384,20 @@ pub fn front_chart(ctx: &Ctx, front: &Front) -> Result<(), StudyError> {
     )
 }
 
-/// What a setting sums the forces over: its mesh, `segments × bands`, or the smooth lens,
-/// `smooth meridian × around`.
+/// What a setting sums the forces over, in the report.
 fn quadrature_name(p: &FrontPoint) -> String {
-    match p.smooth {
-        Some((m, a)) => format!("smooth {m} × {a}"),
-        None => format!("{} × {}", p.segments, p.bands),
-    }
-}
-
-/// A mesh, or the smooth quadrature's nodes.
-type Discretisation = ((u32, u32), Option<(u32, u32)>);
-
-fn same_discretisation(p: &FrontPoint, (mesh, smooth): Discretisation) -> bool {
-    p.smooth == smooth && (smooth.is_some() || (p.segments, p.bands) == mesh)
+    discretisation_name(p.discretisation())
 }
 
 /// The swept meshes, then the smooth quadratures, in the order they were run.
 fn discretisations(front: &Front) -> Vec<Discretisation> {
     let mut out: Vec<Discretisation> = Vec::new();
     for p in &front.points {
-        let key = ((p.segments, p.bands), p.smooth);
-        if !out.iter().any(|&k| same_discretisation(p, k)) {
-            out.push(key);
+        if !out
+            .iter()
+            .any(|&k| is_discretisation(p.discretisation(), k))
+        {
+            out.push(p.discretisation());
         }
     }
     out
@@ -451,7 +449,8 @@ pub fn front_md(ctx: &Ctx, front: &Front) -> String {
     let mut rows = Vec::new();
     for key in discretisations(front) {
         for across in [false, true] {
-            let of = |p: &&FrontPoint| same_discretisation(p, key) && p.across == across;
+            let of =
+                |p: &&FrontPoint| is_discretisation(p.discretisation(), key) && p.across == across;
             let Some(first) = front.points.iter().find(of) else {
                 continue;
             };

@@ -445,6 +445,29 @@ pub struct BandsPoint {
     pub err: Errors,
 }
 
+impl BandsPoint {
+    pub fn discretisation(&self) -> Discretisation {
+        ((self.segments, self.bands), self.smooth)
+    }
+}
+
+/// What a run sums the forces over: its mesh (segments, bands), or the smooth quadrature's
+/// (meridian, around) nodes, the same discretisation whatever mesh draws the stone.
+pub type Discretisation = ((u32, u32), Option<(u32, u32)>);
+
+/// Whether a run's discretisation is `key`'s.
+pub fn is_discretisation(run: Discretisation, key: Discretisation) -> bool {
+    run.1 == key.1 && (key.1.is_some() || run.0 == key.0)
+}
+
+/// A discretisation in the reports: `segments × bands`, or `smooth meridian × around`.
+pub fn discretisation_name((mesh, smooth): Discretisation) -> String {
+    match smooth {
+        Some((m, a)) => format!("smooth {m} × {a}"),
+        None => format!("{} × {}", mesh.0, mesh.1),
+    }
+}
+
 /// The smooth quadratures (meridian × around nodes) run beside the meshes of the bands sweep.
 pub fn band_smooth(quick: bool) -> Vec<(u32, u32)> {
     if quick {

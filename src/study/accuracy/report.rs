@@ -4,9 +4,9 @@
 use crate::sim::params::Integrator;
 
 use super::{
-    band_meshes, band_smooth, cheapest_reaching, errors, families, mesh_segments, shipped_tick,
-    BandsPoint, Errors, MeshPoint, Point, Results, RunStats, WaterPoint, FLOOR, LONG_TICK,
-    REF_TICK, WATER_THROW,
+    band_meshes, band_smooth, cheapest_reaching, discretisation_name, errors, families,
+    is_discretisation, mesh_segments, shipped_tick, BandsPoint, Errors, MeshPoint, Point, Results,
+    RunStats, WaterPoint, FLOOR, LONG_TICK, REF_TICK, WATER_THROW,
 };
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use crate::study::style::{colors, integrator_name, Rgb};
@@ -929,7 +929,7 @@ fn bands_md(ctx: &Ctx, res: &Results) -> String {
         let pts: Vec<&BandsPoint> = res
             .bands
             .iter()
-            .filter(|m| m.smooth == smooth && (smooth.is_some() || (m.segments, m.bands) == (n, b)))
+            .filter(|m| is_discretisation(m.discretisation(), ((n, b), smooth)))
             .collect();
         let Some(first) = pts.first() else {
             continue;
@@ -942,9 +942,13 @@ fn bands_md(ctx: &Ctx, res: &Results) -> String {
             keeping.push((first.triangles, n, b, cont));
         }
         rows.push(vec![
-            match smooth {
-                Some((m, a)) => format!("smooth {m} × {a} (on each case's mesh)"),
-                None => format!("{n} × {b}"),
+            {
+                let name = discretisation_name(((n, b), smooth));
+                if smooth.is_some() {
+                    format!("{name} (on each case's mesh)")
+                } else {
+                    name
+                }
             },
             if smooth.is_some() {
                 "–".into()
