@@ -537,9 +537,6 @@ fn quadrature_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
                             .suffix(suffix),
                     )
                     .on_hover_text(tip);
-                if s.changed() {
-                    r.mark_changed();
-                }
                 r = r.union(s);
             }
         }
@@ -567,9 +564,7 @@ fn bands_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
                     .clamping(SliderClamping::Always)
                     .suffix(" bands"),
             );
-            if s.changed() {
-                r.mark_changed();
-            }
+            // The union carries the slider's `changed` into the row's response.
             r = r.union(s);
         }
         r
