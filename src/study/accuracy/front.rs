@@ -8,11 +8,10 @@
 //! charts after Hairer, Nørsett & Wanner, *Solving ODEs I* §II.10.
 
 use crate::sim::params::{Preset, Quadrature};
-use crate::sim::stone::Stone;
 
 use super::{
-    discretisation_name, errors, is_discretisation, measure, shipped_default, Discretisation,
-    Errors, RunStats, FLOOR,
+    discretisation_name, errors, is_discretisation, measure, shipped_default, triangles,
+    Discretisation, Errors, RunStats, FLOOR,
 };
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use crate::study::style::{colors, Rgb};
@@ -189,10 +188,7 @@ pub fn front_sweep(ctx: &Ctx) -> Result<Front, StudyError> {
     let shipped_mesh = (shipped.0, shipped.1);
     let mut discretisations = Vec::new();
     for &mesh in &meshes {
-        let triangles = Stone::new(&setting(&base, mesh, None, 1e-6, false).stone)?
-            .mesh
-            .triangles
-            .len();
+        let triangles = triangles(&setting(&base, mesh, None, 1e-6, false).stone);
         discretisations.push((mesh, None, triangles));
     }
     discretisations.extend(smooth.iter().map(|&nodes| (shipped_mesh, Some(nodes), 0)));

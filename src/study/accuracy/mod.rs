@@ -13,7 +13,6 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::sim::params::{Integrator, Preset};
-use crate::sim::stone::Stone;
 use crate::sim::{simulate, Simulation};
 
 use super::style::{colors, integrator_color, integrator_name, Rgb};
@@ -25,6 +24,14 @@ mod front;
 mod report;
 
 pub use front::{Front, FrontPoint};
+
+/// The triangles of a stone's mesh, built alone (a whole `Stone` would build the force kernel's
+/// structures too).
+pub(super) fn triangles(stone: &crate::sim::params::StoneParams) -> usize {
+    crate::sim::stone::build_mesh(&stone.shape, stone.segments, stone.bands)
+        .triangles
+        .len()
+}
 
 /// Error floor for log axes: an exact match is drawn here.
 pub const FLOOR: f64 = 1e-12;
@@ -403,7 +410,7 @@ pub fn mesh_sweep(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<MeshPoint>, Stu
                 check_cancel()?;
                 let mut b = throws::base(Integrator::Adaptive, REF_TICK, RESOLUTION_TOLERANCE);
                 b.stone.segments = n;
-                let tri = Stone::new(&b.stone)?.mesh.triangles.len();
+                let tri = triangles(&b.stone);
                 Ok((n, tri, measure(&throws::preset(t, &b)?)?))
             })
             .collect::<Result<_, StudyError>>()?;
@@ -551,7 +558,7 @@ pub fn bands_sweep(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<BandsPoint>, S
                 let tri = if smooth.is_some() {
                     0
                 } else {
-                    Stone::new(&p.stone)?.mesh.triangles.len()
+                    triangles(&p.stone)
                 };
                 Ok((p.stone.segments, bands, tri, smooth, measure(&p)?))
             })
