@@ -50,7 +50,7 @@ fn lens_with(segments: u32, quadrature: Quadrature) -> Stone {
 }
 
 /// The smooth quadrature benched beside the meshes: (meridian, around) nodes.
-const SMOOTH: (u32, u32) = (12, 6);
+const SMOOTH: (u32, u32) = (12, 2);
 
 /// The default throw's attitude (tilt 20°) and velocity, at a depth of `fraction` of the stone's
 /// vertical extent; "free" tilts and banks it and spins it.

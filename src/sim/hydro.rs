@@ -101,23 +101,12 @@ pub fn face_force(
         };
     }
     let half_rho_s = 0.5 * hp.density * area;
-    let vt = v - normal * v.dot(normal);
-    let vt_len = vt.length();
-    let (pressure, friction) = match hp.law {
-        ForceLaw::Paper => (
-            hp.lift * half_rho_s * vn * vn,
-            hp.friction * half_rho_s * vt_len * vt_len,
-        ),
-        ForceLaw::Bocquet => (
-            hp.lift * half_rho_s * speed * speed,
-            hp.friction * half_rho_s * speed * speed,
-        ),
+    let pressure = match hp.law {
+        ForceLaw::Paper => hp.lift * half_rho_s * vn * vn,
+        ForceLaw::Bocquet => hp.lift * half_rho_s * speed * speed,
         ForceLaw::Rosellini => {
             let vn_loaded = if hp.opposing { vn.abs() } else { vn.max(0.0) };
-            (
-                hp.lift * hp.density * area * speed * vn_loaded,
-                hp.friction * half_rho_s * vt_len * vt_len,
-            )
+            hp.lift * hp.density * area * speed * vn_loaded
         }
     };
     // As printed, every loaded face is pushed along −N; opposing its motion, a receding face
@@ -130,11 +119,25 @@ pub fn face_force(
         0.0
     };
     let hydrostatic = hp.rho_g * depth.max(0.0) * area;
-    let mut f = -normal * (sign * pressure + hydrostatic);
+    let f = -normal * (sign * pressure + hydrostatic);
+    f + friction_force(hp, v - normal * v.dot(normal), area, speed)
+}
+
+/// The friction drag on a loaded face of `area` whose tangential velocity is `vt`: along −v_t,
+/// C_f ρ S |v_t|² / 2 (the paper's and Rosellini's law) or C_f ρ S U² / 2 (Bocquet's).
+#[inline]
+pub fn friction_force(hp: &HydroParams, vt: DVec3, area: f64, speed: f64) -> DVec3 {
+    let vt_len = vt.length();
     if vt_len > 0.0 {
-        f -= vt * (friction / vt_len);
+        let half_rho_s = 0.5 * hp.density * area;
+        let friction = match hp.law {
+            ForceLaw::Bocquet => hp.friction * half_rho_s * speed * speed,
+            ForceLaw::Paper | ForceLaw::Rosellini => hp.friction * half_rho_s * vt_len * vt_len,
+        };
+        -vt * (friction / vt_len)
+    } else {
+        DVec3::ZERO
     }
-    f
 }
 
 /// The water surface as the stone sees it: signed height above it of a world point.
@@ -248,7 +251,7 @@ pub fn lowest_clearance(
         return smooth.clearance(position, orientation);
     }
     kernel::lowest_clearance(
-        &stone.kernel,
+        stone.kernel(),
         stone.bounding_radius,
         position,
         orientation,
@@ -291,7 +294,7 @@ pub fn underside_submerged(
     if let Some(smooth) = smooth_over(stone, surface) {
         return smooth.underside_submerged(position, orientation);
     }
-    kernel::underside_submerged(&stone.kernel, position, orientation, surface)
+    kernel::underside_submerged(stone.kernel(), position, orientation, surface)
 }
 
 /// [`underside_submerged`] over every face: the oracle.

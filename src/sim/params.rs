@@ -130,9 +130,10 @@ pub enum Quadrature {
     /// At the wetted centroid of every wetted triangle of the mesh (paper eqs. 24–26).
     #[default]
     Faces,
-    /// On the smooth ellipsoid of a lens (`src/sim/smooth.rs`): Gauss–Legendre rules with
-    /// `meridian` nodes along the wet latitudes and `around` nodes on each arc, the waterline
-    /// exact. Flat water only (no wavy contact), a lens only, its axial spin smooth.
+    /// On the smooth ellipsoid of a lens (`src/sim/smooth.rs`): a Gauss–Legendre rule with
+    /// `meridian` nodes along the wet latitudes; around each latitude the waterline is exact and
+    /// the pressure integrated in closed form, and `around` Gauss nodes on each piece of the arc
+    /// take the friction. Flat water only (no wavy contact), a lens only, its axial spin smooth.
     Smooth { meridian: u32, around: u32 },
 }
 

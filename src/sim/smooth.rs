@@ -4,34 +4,43 @@
 //! triangles (issue 12: `stone.quadrature: Smooth`).
 //!
 //! The lens is x²/a² + y²/a² + z²/c² = 1 in its body frame. A meridian is parametrised by the polar
-//! angle ψ of its outward normal N = (sin ψ cos θ, sin ψ sin θ, cos ψ): with D = √(a² sin²ψ +
+//! angle ψ of its outward normal N = (sin ψ cos φ, sin ψ sin φ, cos ψ): with D = √(a² sin²ψ +
 //! c² cos²ψ), the point is ρ = a² sin ψ / D, z = c² cos ψ / D and the meridian's radius of
-//! curvature R = a²c²/D³, so dA = ρ R dψ dθ (every quantity smooth in ψ, also at the rim, where the
-//! normal turns fastest along the surface). With u the water's up direction in the body frame and
-//! z₀ the centre's height, a point's height above flat water is A(ψ) + B(ψ) cos(θ − θ_u) (A = z₀ +
-//! u_z z, B = ρ|u_xy|): each latitude's wet part is one arc, found exactly (the waterline needs no
-//! clipping), and its normal velocity (V + ω⊥ × r)·N = P + Q cos θ + S sin θ is a first harmonic too,
-//! so the arc is cut exactly where the law switches (v_n = 0: ventilation, max(0, v_n)). The wet
-//! latitudes are one interval [ψ₁, ψ₂] about the lowest point's ψ* (the lowest point per latitude
-//! is unimodal on a convex body), its ends found by root finding, cut where it reaches from a cap
-//! into the rim band (ψ = 2 atan(c/a) from a pole: in ψ the caps hold most of the area in a few
-//! degrees); ψ = ψ_m − ψ_h cos t maps each range onto t ∈ [0, π] so the arcs' √(ψ − ψ₁) growth
-//! at the ends becomes smooth. Gauss–Legendre rules (the nodes by Newton on P_n) then integrate
-//! in t and in θ on every piece. Every node moves smoothly with the pose, and a range or piece
-//! that appears does so with zero width, so the force stays continuous for the step control.
+//! curvature R = a²c²/D³, so dA = ρ R dψ dφ (every quantity smooth in ψ, also at the rim, where the
+//! normal turns fastest along the surface). The lens is symmetric about its axis, so the forces
+//! are summed in the body frame turned about it until the water's up direction is u = (−h, 0,
+//! u_z): a point's height above flat water is then A(ψ) − B(ψ) cos φ (A = z₀ + u_z z, B = hρ, z₀
+//! the centre's height), lowest at φ = 0 on every latitude.
 //!
-//! The clearance is the ellipsoid's support function, z₀ − √(a²|u_xy|² + c²u_z²), exact. Faces of
-//! the mesh converge to these integrals as it is refined (tests). The law, the frames and the
-//! options (ventilation, pressure sign, hydrostatic pressure) are `hydro::face_force`'s, called at
-//! each node with the node's area; a ventilated piece receding from the water carries only the
-//! hydrostatic pressure (`hydrostatic: WettedFaces`), integrated there in closed form (depth and
-//! normal are first harmonics in θ). The axial spin is not felt as normal velocity (the smooth
-//! body's `axial_spin`), and the pressure passes through the axis (r × N ⊥ a), so it takes no
-//! axial torque.
+//! - **Along the meridian.** The wet latitudes are one interval [ψ₁, ψ₂] about the lowest point's
+//!   ψ* (the lowest point per latitude is unimodal on a convex body). Its ends, where a latitude's
+//!   lowest point is at the water's height, are the roots of a quadratic form in (cos ψ, sin ψ)
+//!   (`touching`). The interval is cut where it reaches from a cap into the rim band (ψ = 2
+//!   atan(c/a) from a pole: in ψ the caps hold most of the area in a few degrees); ψ = ψ_m − ψ_h
+//!   cos t maps each range onto t ∈ [0, π] so the arcs' √(ψ − ψ₁) growth at the ends becomes
+//!   smooth, and a Gauss–Legendre rule in t (nodes by Newton on P_n) integrates it.
+//! - **Around a latitude.** Its wet arc is |φ| ≤ β (cos β = A/B), and its normal velocity (V + ω⊥ ×
+//!   r)·N = P + Q cos φ + S sin φ is a first harmonic, so the arc is cut exactly where the law
+//!   switches (v_n = 0: ventilation, max(0, v_n)). All of it is algebraic in τ = tan(φ/16) (cos φ
+//!   and sin φ are rational in τ). On each piece the pressure — the law's (C_L ρ U v_n, C_L ρ
+//!   v_n²/2 or C_L ρ U²/2) and the hydrostatic ρ g d, d = −(z₀ + u·r) — is a trig polynomial of
+//!   degree ≤ 2 in φ, as are N and r × N = k (sin φ, −cos φ, 0) (k = ρ cos ψ − z sin ψ), so its
+//!   force and torque are integrated in closed form; only the friction (|v_t| v_t, a few per cent
+//!   of the load) is summed at `around` Gauss nodes in τ.
+//!
+//! Every node and range end moves smoothly with the pose, and a range or piece that appears does
+//! so with zero width, so the force stays continuous for the step control. The clearance is the
+//! ellipsoid's support function, z₀ − √(a²|u_xy|² + c²u_z²), exact. Faces of the mesh converge to
+//! these integrals as it is refined (tests). The law, the frames and the options (ventilation,
+//! pressure sign, hydrostatic pressure) are `hydro::face_force`'s; a ventilated piece receding
+//! from the water carries only the hydrostatic pressure (`hydrostatic: WettedFaces`). The axial
+//! spin is not felt as normal velocity (the smooth body's `axial_spin`), and the pressure passes
+//! through the axis (r × N ⊥ a), so it takes no axial torque.
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::hydro::{face_force, FaceLoad, ForceSum, HydroParams, Pose};
+use super::hydro::{friction_force, FaceLoad, ForceSum, HydroParams, Pose};
+use super::params::ForceLaw;
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (n ≥ 1), nodes ascending.
 pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
@@ -84,8 +93,10 @@ pub struct SmoothLens {
     /// Along the wet latitudes: ψ = ψ_m − ψ_h cos t on each range, Gauss–Legendre in t ∈ [0, π];
     /// (cos t, its weight × dψ/dt / ψ_h).
     meridian: Vec<(f64, f64)>,
-    /// The θ rule's nodes x ≥ 0 (each x > 0 stands for ±x) and weights.
+    /// The friction rule's nodes x ≥ 0 (each x > 0 stands for ±x) and weights.
     around_half: Vec<(f64, f64)>,
+    /// Where the caps meet the rim band, ψ = 2 atan(c/a) from a pole.
+    cap: f64,
 }
 
 /// A point of a meridian: radius ρ, height z, the meridian's radius of curvature R.
@@ -116,6 +127,7 @@ impl SmoothLens {
                 .into_iter()
                 .filter(|&(x, _)| x >= 0.0)
                 .collect(),
+            cap: 2.0 * c.atan2(a),
         }
     }
 
@@ -132,7 +144,7 @@ impl SmoothLens {
     }
 
     fn at(&self, psi: f64) -> Meridian {
-        let (s, c) = psi.sin_cos();
+        let (s, c) = polar_sin_cos(psi);
         let (a2, c2) = (self.a * self.a, self.c * self.c);
         let d = (a2 * s * s + c2 * c * c).sqrt();
         Meridian {
@@ -177,8 +189,63 @@ impl SmoothLens {
         position.z + rise < 0.0
     }
 
+    /// The polar angle ψ in [`lo`, `hi`] of the latitude whose lowest point is at the water's
+    /// height, f(ψ) = z₀ + u_z z(ψ) − h ρ(ψ) = 0 with f(lo) > 0 ≥ f(hi) or the reverse (h = |u_xy|).
+    /// Times D = √(a² sin²ψ + c² cos²ψ) > 0 it reads z₀ D = h a² sin ψ − u_z c² cos ψ; squared,
+    /// a quadratic form in (cos ψ, sin ψ) whose discriminant is a²c²z₀²(S² − z₀²) (S the support,
+    /// √(a²h² + c²u_z²)), so its two directions come in closed form; of those in the bracket the
+    /// root is the one that also solves the unsquared equation (the other has residual 2 z₀ D).
+    /// Root finding on f where rounding leaves neither close enough.
+    fn touching(&self, z0: f64, h: f64, uz: f64, lo: f64, hi: f64) -> f64 {
+        let (a2, c2) = (self.a * self.a, self.c * self.c);
+        // α Y² + 2β X Y + γ X² = 0 in X = cos ψ, Y = sin ψ.
+        let alpha = a2 * (h * h * a2 - z0 * z0);
+        let beta = -h * uz * a2 * c2;
+        let gamma = c2 * (uz * uz * c2 - z0 * z0);
+        let disc = a2 * c2 * z0 * z0 * ((a2 * h * h + c2 * uz * uz) - z0 * z0);
+        let q = -(beta + disc.max(0.0).sqrt().copysign(beta));
+        let residual = |x: f64, y: f64| {
+            let d = (a2 * y * y + c2 * x * x).sqrt();
+            (h * a2 * y - uz * c2 * x - z0 * d).abs()
+        };
+        let mut best: Option<(f64, f64)> = None;
+        for (x, y) in [(alpha, q), (q, gamma)] {
+            let norm = x.hypot(y);
+            // A zero (or NaN) direction is no root.
+            if norm.is_nan() || norm <= 0.0 {
+                continue;
+            }
+            let (x, y) = if y < 0.0 { (-x, -y) } else { (x, y) };
+            let (x, y) = (x / norm, y / norm);
+            let psi = y.atan2(x);
+            if psi < lo || psi > hi {
+                continue;
+            }
+            let r = residual(x, y);
+            if best.is_none_or(|(_, b)| r < b) {
+                best = Some((psi, r));
+            }
+        }
+        // Rounding leaves the residual at some ulps of the terms; the other direction's is 2|z₀|D.
+        let tolerance = 1e-9 * (a2 * h + c2 * uz.abs() + self.a * z0.abs());
+        match best {
+            Some((psi, r)) if r <= tolerance => psi,
+            _ => {
+                let lowest = |psi: f64| {
+                    let m = self.at(psi);
+                    z0 + uz * m.z - m.rho * h
+                };
+                root(lowest, lo, hi)
+            }
+        }
+    }
+
     /// Forces and torque on the lens over flat water (world frame); with `record` the vertical
     /// load of every loaded node is pushed to `loads` for the water coupling.
+    ///
+    /// The evaluation frame is the body frame turned about the axis (a symmetry of the lens) so
+    /// that the water's up direction is u = (−h, 0, u_z): every latitude's lowest point is at
+    /// azimuth φ = 0, and its wet arc is symmetric about it.
     pub fn evaluate(
         &self,
         hp: &HydroParams,
@@ -190,50 +257,51 @@ impl SmoothLens {
         if record {
             loads.clear();
         }
-        let (rot, u) = Self::frame(pose.orientation);
+        let (rot, u_body) = Self::frame(pose.orientation);
         let z0 = pose.position.z;
-        if self.clearance_in(z0, u) > 0.0 {
+        if self.clearance_in(z0, u_body) > 0.0 {
             return ForceSum::default();
         }
-        let horizontal = u.x.hypot(u.y);
-        // The lowest point per latitude, A − B: unimodal in ψ, least at the lowest point's ψ*.
-        let lowest = |psi: f64| {
-            let m = self.at(psi);
-            z0 + u.z * m.z - m.rho * horizontal
+        let h = u_body.x.hypot(u_body.y);
+        let (ex, ey) = if h > 0.0 {
+            (-u_body.x / h, -u_body.y / h)
+        } else {
+            (1.0, 0.0)
         };
-        let psi_star = horizontal.atan2(-u.z);
-        let psi1 = if lowest(0.0) <= 0.0 {
+        let world_from_eval =
+            rot * DMat3::from_cols(DVec3::new(ex, ey, 0.0), DVec3::new(-ey, ex, 0.0), DVec3::Z);
+        let eval_from_world = world_from_eval.transpose();
+        let u = DVec3::new(-h, 0.0, u_body.z);
+        // A latitude's lowest point is at z₀ + u_z z − h ρ: unimodal in ψ, least at ψ*.
+        let psi_star = h.atan2(-u.z);
+        let psi1 = if z0 + u.z * self.c <= 0.0 {
             0.0
         } else {
-            root(lowest, 0.0, psi_star)
+            self.touching(z0, h, u.z, 0.0, psi_star)
         };
-        let psi2 = if lowest(PI) <= 0.0 {
+        let psi2 = if z0 - u.z * self.c <= 0.0 {
             PI
         } else {
-            root(lowest, psi_star, PI)
+            self.touching(z0, h, u.z, psi_star, PI)
         };
-        let rt = rot.transpose();
-        let w_b = rt * pose.angular_velocity;
         let cx = Ctx {
             hp,
             z0,
             u,
-            horizontal,
-            theta_u: u.y.atan2(u.x),
-            v_b: rt * pose.velocity,
-            w_b,
+            v: eval_from_world * pose.velocity,
+            w: eval_from_world * pose.angular_velocity,
             speed: pose.velocity.length(),
             receding_is_dry: hp.ventilated && !(hp.hydrostatic_wetted && hp.rho_g != 0.0),
         };
         let mut acc = Sums::default();
         let mut sink = record.then_some(Loads {
-            rot: &rot,
+            world_from_eval: &world_from_eval,
             position: pose.position,
             loads,
         });
         // The caps hold most of the area in a few degrees of ψ about the poles (R is a²/c there,
         // c²/a at the rim): a wet range that reaches from a cap into the rim band is cut there.
-        let cap = 2.0 * self.c.atan2(self.a);
+        let cap = self.cap;
         let mut ends = [psi1, psi2, psi2, psi2];
         let mut n = 1;
         for b in [cap, PI - cap] {
@@ -253,188 +321,344 @@ impl SmoothLens {
                 let m = self.at(mid - half * cos_t);
                 let k = m.rho * m.cos - m.z * m.sin;
                 // Only ω's part across the axis, ω⊥ = (ω_x, ω_y, 0), moves the smooth surface
-                // along its normal: ω⊥ · (r × N) = k (ω_x sin θ − ω_y cos θ).
+                // along its normal: ω⊥ · (r × N) = k (ω_x sin φ − ω_y cos φ).
                 let lat = Latitude {
                     m,
                     weight: weight * m.rho * m.curvature_radius,
                     k,
-                    p: m.cos * cx.v_b.z,
-                    q: m.sin * cx.v_b.x - k * cx.w_b.y,
-                    s: m.sin * cx.v_b.y + k * cx.w_b.x,
+                    p: m.cos * cx.v.z,
+                    q: m.sin * cx.v.x - k * cx.w.y,
+                    s: m.sin * cx.v.y + k * cx.w.x,
                 };
                 self.latitude(&cx, &lat, &mut acc, sink.as_mut());
             }
         }
         ForceSum {
-            force: rot * acc.force,
-            torque: rot * acc.torque,
+            force: world_from_eval * acc.force,
+            torque: world_from_eval * acc.torque,
             wetted_area: acc.area,
             in_contact: true,
         }
     }
 
-    /// Integrates one wet latitude's arc, cut where the normal velocity changes sign.
+    /// Integrates one wet latitude's arc, cut where the normal velocity changes sign. The arc
+    /// is parametrised by τ = tan(φ/16), which maps the whole latitude onto |τ| ≤ tan(π/16) with
+    /// cos φ and sin φ rational in τ (dφ = 16 dτ/(1 + τ²)): its ends and cuts are algebraic, no
+    /// angle is ever formed, and the map's poles (τ = ±i) are far enough from the arc that the
+    /// Gauss rule in τ is as accurate as one in φ (with τ = tan(φ/4) it was not, on wide arcs).
     fn latitude(&self, cx: &Ctx, lat: &Latitude, acc: &mut Sums, mut sink: Option<&mut Loads>) {
-        use std::f64::consts::{PI, TAU};
         let m = &lat.m;
+        // Heights A − B cos φ: wet where cos φ ≥ A/B, |τ| ≤ τ_e.
         let a_coef = cx.z0 + cx.u.z * m.z;
-        let b_coef = m.rho * cx.horizontal;
-        // The wet arc [start, start + width] (heights A + B cos(θ − θ_u) ≤ 0).
-        let (start, width) = if b_coef <= 0.0 || a_coef <= -b_coef {
+        let b_coef = m.rho * -cx.u.x;
+        let tau_edge = if b_coef <= 0.0 || a_coef <= -b_coef {
             if a_coef > 0.0 {
                 return;
             }
-            (cx.theta_u, TAU)
+            sixteenth_from_half(f64::INFINITY)
         } else if a_coef >= b_coef {
             return;
         } else {
-            let beta = (a_coef / b_coef).acos();
-            (cx.theta_u + PI - beta, 2.0 * beta)
+            // tan(β/16) with cos β = A/B, from tan(β/2) = √((B − A)/(B + A)).
+            sixteenth_from_half(((b_coef - a_coef) / (b_coef + a_coef)).sqrt())
         };
-        // Where the normal velocity P + Q cos θ + S sin θ changes sign inside the arc.
+        // Where the normal velocity P + Q cos φ + S sin φ changes sign: with t = tan(φ/2),
+        // (P − Q) t² + 2 S t + (P + Q) = 0.
         let (p, q, s) = (lat.p, lat.q, lat.s);
-        let r = q.hypot(s);
-        let mut cuts = [0.0, width, width, width];
+        let mut cuts = [-tau_edge, tau_edge, tau_edge, tau_edge];
         let mut n = 1;
-        if r > 0.0 && (-p / r).abs() < 1.0 {
-            let gamma = (-p / r).acos();
-            let theta_v = s.atan2(q);
-            // Offsets from the arc's start in [0, 2π) (the angles lie within a few turns of it).
-            let wrap = |b: f64| {
-                let d = b - start;
-                d - TAU * (d / TAU).floor()
-            };
-            let mut inner = [theta_v - gamma, theta_v + gamma].map(wrap);
-            inner.sort_by(f64::total_cmp);
-            for off in inner {
-                if off > 0.0 && off < width {
-                    cuts[n] = off;
-                    n += 1;
+        let disc = s * s + (q - p) * (q + p);
+        if disc > 0.0 {
+            let big = -(s + disc.sqrt().copysign(s));
+            if big != 0.0 {
+                let mut inner = [
+                    sixteenth_from_half(big / (p - q)),
+                    sixteenth_from_half((p + q) / big),
+                ];
+                inner.sort_by(f64::total_cmp);
+                for tau in inner {
+                    if tau > -tau_edge && tau < tau_edge {
+                        cuts[n] = tau;
+                        n += 1;
+                    }
                 }
             }
         }
-        cuts[n] = width;
+        cuts[n] = tau_edge;
         for piece in cuts[..=n].windows(2) {
-            let (pm, ph) = (
-                start + 0.5 * (piece[0] + piece[1]),
-                0.5 * (piece[1] - piece[0]),
-            );
-            if ph <= 0.0 {
-                continue;
+            if piece[1] > piece[0] {
+                self.piece(cx, lat, (piece[0], piece[1]), acc, sink.as_deref_mut());
             }
-            // Gauss nodes come in pairs ±x: cos and sin of pm ± ph x from one sin_cos each.
-            let (sm, cm) = pm.sin_cos();
-            let receding = cx.hp.ventilated && p + q * cm + s * sm <= 0.0;
-            // A receding piece carries nothing when only the loaded faces feel the water, and
-            // only the hydrostatic pressure when every wetted face does: that one in closed form.
-            if receding && cx.receding_is_dry {
-                continue;
-            }
-            if receding {
-                hydrostatic_piece(cx, lat, ph, (sm, cm), acc, sink.as_deref_mut());
-                continue;
-            }
+        }
+    }
+
+    /// One piece [τ_lo, τ_hi] of a latitude's wet arc, on which the normal velocity keeps its
+    /// sign: the pressure (the law's and the hydrostatic) in closed form, the friction by the
+    /// Gauss rule in τ.
+    fn piece(
+        &self,
+        cx: &Ctx,
+        lat: &Latitude,
+        (lo, hi): (f64, f64),
+        acc: &mut Sums,
+        sink: Option<&mut Loads>,
+    ) {
+        let m = &lat.m;
+        let hp = cx.hp;
+        let (tm, th) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        let (cm, sm, _) = azimuth(tm);
+        let vn_mid = lat.p + lat.q * cm + lat.s * sm;
+        // A ventilated piece receding from the water carries only the hydrostatic pressure, and
+        // that only when every wetted face feels it.
+        let receding = hp.ventilated && vn_mid <= 0.0;
+        if receding && cx.receding_is_dry {
+            return;
+        }
+        let mut p = Harmonics::default();
+        if hp.rho_g != 0.0 && (!receding || hp.hydrostatic_wetted) {
+            // ρ g d, the depth d = −(z₀ + u·r) = D₀ + hρ cos φ (≥ 0 on the wet arc).
+            p.a0 += hp.rho_g * -(cx.z0 + cx.u.z * m.z);
+            p.a1 += hp.rho_g * -(cx.u.x * m.rho);
+        }
+        if !receding {
+            dynamic_pressure(hp, cx.speed, (lat.p, lat.q, lat.s), vn_mid, &mut p);
+        }
+        let moments = Moments::over(azimuth(lo), azimuth(hi), lo, hi);
+        let (j0, jc, js) = moments.of(&p);
+        let weight = lat.weight;
+        let mut force = DVec3::new(m.sin * jc, m.sin * js, m.cos * j0) * -weight;
+        let mut torque = DVec3::new(js, -jc, 0.0) * (-weight * lat.k);
+        if !receding && hp.friction != 0.0 {
             for &(x, w) in &self.around_half {
-                let (sx, cx_) = if x == 0.0 {
-                    (0.0, 1.0)
-                } else {
-                    (ph * x).sin_cos()
-                };
-                let sides: &[f64] = if x == 0.0 { &[1.0] } else { &[1.0, -1.0] };
-                for &sign in sides {
-                    let (sn, cs) = (sm * cx_ + sign * cm * sx, cm * cx_ - sign * sm * sx);
-                    node(cx, lat, (sn, cs), w * ph, acc, sink.as_deref_mut());
+                let sides: &[f64] = if x == 0.0 { &[0.0] } else { &[1.0, -1.0] };
+                for &side in sides {
+                    let (cs, sn, dphi) = azimuth(tm + side * th * x);
+                    let r = DVec3::new(m.rho * cs, m.rho * sn, m.z);
+                    let normal = DVec3::new(m.sin * cs, m.sin * sn, m.cos);
+                    let v = cx.v + cx.w.cross(r);
+                    let area = weight * w * th * dphi;
+                    let f = friction_force(hp, v - normal * v.dot(normal), area, cx.speed);
+                    force += f;
+                    torque += r.cross(f);
                 }
             }
+        }
+        if force == DVec3::ZERO {
+            return;
+        }
+        let area = weight * moments.len;
+        acc.area += area;
+        acc.force += force;
+        acc.torque += torque;
+        if let Some(sink) = sink {
+            // One load at the piece's middle (in τ) carries its whole vertical force.
+            let r = DVec3::new(m.rho * cm, m.rho * sm, m.z);
+            let normal = DVec3::new(m.sin * cm, m.sin * sm, m.cos);
+            sink.push(r, force, area * cx.u.dot(normal).abs());
         }
     }
 }
 
-/// One node of a latitude's arc at azimuth (sin θ, cos θ), weight `w` in θ: the law of
-/// `hydro::face_force` with the node's area.
+/// Adds the law's dynamic pressure per unit area on a piece where the normal velocity is
+/// v_n = P + Q cos φ + S sin φ with the sign of `vn_mid`, as a trig polynomial in φ: the laws of
+/// `hydro::face_force` (Rosellini's C_L ρ U v_n, the paper's C_L ρ v_n²/2, Bocquet's C_L ρ U²/2),
+/// with its sign convention (as printed every loaded face is pushed along −N; opposing the
+/// motion, a receding one is pulled).
+fn dynamic_pressure(
+    hp: &HydroParams,
+    speed: f64,
+    (pp, q, s): (f64, f64, f64),
+    vn_mid: f64,
+    p: &mut Harmonics,
+) {
+    let sign = if !hp.opposing || vn_mid > 0.0 {
+        1.0
+    } else if vn_mid < 0.0 {
+        -1.0
+    } else {
+        0.0
+    };
+    match hp.law {
+        ForceLaw::Rosellini => {
+            // C_L ρ U max(0, v_n), or C_L ρ U |v_n| with the sign: v_n itself.
+            if hp.opposing || vn_mid > 0.0 {
+                let k = hp.lift * hp.density * speed;
+                p.a0 += k * pp;
+                p.a1 += k * q;
+                p.b1 += k * s;
+            }
+        }
+        ForceLaw::Paper => {
+            // v_n² = P² + (Q² + S²)/2 + 2PQ cos φ + 2PS sin φ + (Q² − S²)/2 cos 2φ + QS sin 2φ.
+            let k = sign * hp.lift * 0.5 * hp.density;
+            p.a0 += k * (pp * pp + 0.5 * (q * q + s * s));
+            p.a1 += k * 2.0 * pp * q;
+            p.b1 += k * 2.0 * pp * s;
+            p.a2 += k * 0.5 * (q - s) * (q + s);
+            p.b2 += k * q * s;
+        }
+        ForceLaw::Bocquet => p.a0 += sign * hp.lift * 0.5 * hp.density * speed * speed,
+    }
+}
+
+/// A pressure per unit area along a latitude, a0 + a1 cos φ + b1 sin φ + a2 cos 2φ + b2 sin 2φ.
+#[derive(Default)]
+struct Harmonics {
+    a0: f64,
+    a1: f64,
+    b1: f64,
+    a2: f64,
+    b2: f64,
+}
+
+/// The integrals of cos kφ and sin kφ (k = 1, 2, 3) over a piece [φ_a, φ_b] and its angle.
+struct Moments {
+    len: f64,
+    ic: [f64; 3],
+    is: [f64; 3],
+}
+
+impl Moments {
+    /// From cos and sin of the ends (`azimuth` at τ_lo and τ_hi) and the ends themselves.
+    fn over((ca, sa, _): (f64, f64, f64), (cb, sb, _): (f64, f64, f64), lo: f64, hi: f64) -> Self {
+        // |τ| < 1 on both ends, so 1 + τ_lo τ_hi > 0 and the difference of the atans is one atan.
+        let len = 16.0 * small_atan((hi - lo) / (1.0 + lo * hi));
+        // cos kφ and sin kφ at both ends by the multiple-angle formulas.
+        let multiples = |c: f64, s: f64| {
+            let (c2, s2) = ((c - s) * (c + s), 2.0 * s * c);
+            ([c, c2, c * c2 - s * s2], [s, s2, s * c2 + c * s2])
+        };
+        let (cos_a, sin_a) = multiples(ca, sa);
+        let (cos_b, sin_b) = multiples(cb, sb);
+        let mut ic = [0.0; 3];
+        let mut is = [0.0; 3];
+        for k in 0..3 {
+            let n = (k + 1) as f64;
+            ic[k] = (sin_b[k] - sin_a[k]) / n;
+            is[k] = (cos_a[k] - cos_b[k]) / n;
+        }
+        Self { len, ic, is }
+    }
+
+    /// ∫p, ∫p cos φ and ∫p sin φ over the piece (products to sums of cos kφ and sin kφ).
+    fn of(&self, p: &Harmonics) -> (f64, f64, f64) {
+        let (l, c, s) = (self.len, &self.ic, &self.is);
+        let j0 = p.a0 * l + p.a1 * c[0] + p.b1 * s[0] + p.a2 * c[1] + p.b2 * s[1];
+        let jc = p.a0 * c[0]
+            + 0.5 * (p.a1 * (l + c[1]) + p.b1 * s[1] + p.a2 * (c[2] + c[0]) + p.b2 * (s[2] + s[0]));
+        let js = p.a0 * s[0]
+            + 0.5 * (p.a1 * s[1] + p.b1 * (l - c[1]) + p.a2 * (s[2] - s[0]) + p.b2 * (c[0] - c[2]));
+        (j0, jc, js)
+    }
+}
+
+/// sin ψ and cos ψ of a polar angle ψ ∈ [0, π] by Taylor polynomials on three octant-wide
+/// pieces (|x| ≤ π/4, where the next terms are below 5e-17): a few multiplies where the library's
+/// `sin_cos` handles any argument. Other arguments go to `sin_cos`.
+#[inline]
+fn polar_sin_cos(psi: f64) -> (f64, f64) {
+    use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+    // Horner in x² for sin x / x and cos x.
+    let sin_cos = |x: f64| {
+        let x2 = x * x;
+        let sin = x
+            * (1.0
+                + x2 * (-1.0 / 6.0
+                    + x2 * (1.0 / 120.0
+                        + x2 * (-1.0 / 5040.0
+                            + x2 * (1.0 / 362880.0
+                                + x2 * (-1.0 / 39916800.0
+                                    + x2 * (1.0 / 6227020800.0
+                                        + x2 * (-1.0 / 1307674368000.0))))))));
+        let cos = 1.0
+            + x2 * (-0.5
+                + x2 * (1.0 / 24.0
+                    + x2 * (-1.0 / 720.0
+                        + x2 * (1.0 / 40320.0
+                            + x2 * (-1.0 / 3628800.0
+                                + x2 * (1.0 / 479001600.0
+                                    + x2 * (-1.0 / 87178291200.0
+                                        + x2 * (1.0 / 20922789888000.0))))))));
+        (sin, cos)
+    };
+    if (0.0..=FRAC_PI_4).contains(&psi) {
+        sin_cos(psi)
+    } else if psi > FRAC_PI_4 && psi <= 3.0 * FRAC_PI_4 {
+        let (s, c) = sin_cos(psi - FRAC_PI_2);
+        (c, -s)
+    } else if psi > 3.0 * FRAC_PI_4 && psi <= PI {
+        let (s, c) = sin_cos(PI - psi);
+        (s, -c)
+    } else {
+        psi.sin_cos()
+    }
+}
+
+/// atan x for 0 ≤ x ≤ tan(π/8) (a piece's angle over 16), by one halving, x/(1 + √(1 + x²)) ≤
+/// tan(π/16) < 0.2, and the Taylor series to x²³ (the next term below 4e-19). Other arguments go
+/// to `atan`.
+#[inline]
+fn small_atan(x: f64) -> f64 {
+    if !(0.0..=0.4143).contains(&x) {
+        return x.atan();
+    }
+    let y = x / (1.0 + (1.0 + x * x).sqrt());
+    let y2 = y * y;
+    // 1 − y²/3 + y⁴/5 − … − y²²/23, by Horner.
+    const SERIES: [f64; 12] = [
+        1.0,
+        -1.0 / 3.0,
+        1.0 / 5.0,
+        -1.0 / 7.0,
+        1.0 / 9.0,
+        -1.0 / 11.0,
+        1.0 / 13.0,
+        -1.0 / 15.0,
+        1.0 / 17.0,
+        -1.0 / 19.0,
+        1.0 / 21.0,
+        -1.0 / 23.0,
+    ];
+    let sum = SERIES.iter().rev().fold(0.0, |acc, &c| c + y2 * acc);
+    2.0 * y * sum
+}
+
+/// cos φ, sin φ and dφ/dτ at τ = tan(φ/16).
 #[inline(always)]
-fn node(
-    cx: &Ctx,
-    lat: &Latitude,
-    (sn, cs): (f64, f64),
-    w: f64,
-    acc: &mut Sums,
-    sink: Option<&mut Loads>,
-) {
-    let m = &lat.m;
-    let r_b = DVec3::new(m.rho * cs, m.rho * sn, m.z);
-    let normal = DVec3::new(m.sin * cs, m.sin * sn, m.cos);
-    let area = lat.weight * w;
-    let v = cx.v_b + cx.w_b.cross(r_b);
-    let vn = lat.p + lat.q * cs + lat.s * sn;
-    let depth = -(cx.z0 + cx.u.dot(r_b));
-    let f = face_force(cx.hp, normal, area, v, vn, cx.speed, depth);
-    if f == DVec3::ZERO {
-        return;
+fn azimuth(tau: f64) -> (f64, f64, f64) {
+    let t2 = tau * tau;
+    let d = 1.0 / (1.0 + t2);
+    // cos and sin of φ/8, then of φ/4, φ/2 and φ by doubling.
+    let (mut c, mut s) = ((1.0 - t2) * d, 2.0 * tau * d);
+    for _ in 0..3 {
+        (c, s) = ((c - s) * (c + s), 2.0 * s * c);
     }
-    acc.area += area;
-    acc.force += f;
-    acc.torque += r_b.cross(f);
-    if let Some(sink) = sink {
-        sink.push(r_b, f, area * cx.u.dot(normal).abs());
+    (c, s, 16.0 * d)
+}
+
+/// tan(x/2) from t = tan(x), x ∈ [−π/2, π/2] (t = ±∞ at the ends).
+fn half_tangent(t: f64) -> f64 {
+    if t.abs() <= 1.0 {
+        t / (1.0 + (1.0 + t * t).sqrt())
+    } else {
+        let r = 1.0 / t.abs();
+        (1.0 / (r + (r * r + 1.0).sqrt())).copysign(t)
     }
 }
 
-/// The hydrostatic load ρ g d on a piece [pm − ph, pm + ph] of a latitude's wet arc (its half
-/// width ph, and sin and cos of its middle pm), exactly: the depth d = D₀ − ρ(u_x cos θ +
-/// u_y sin θ) and the normal are first harmonics in θ, so the force −ρ g ∫ d N dA and its torque
-/// (r × N = k (sin θ, −cos θ, 0)) are integrals of products of two.
-fn hydrostatic_piece(
-    cx: &Ctx,
-    lat: &Latitude,
-    ph: f64,
-    (sm, cm): (f64, f64),
-    acc: &mut Sums,
-    sink: Option<&mut Loads>,
-) {
-    let m = &lat.m;
-    let (sh, ch) = ph.sin_cos();
-    let (sa, ca) = (sm * ch - cm * sh, cm * ch + sm * sh);
-    let (sb, cb) = (sm * ch + cm * sh, cm * ch - sm * sh);
-    let len = 2.0 * ph;
-    // ∫cos, ∫sin, ∫cos², ∫sin², ∫sin cos over the piece.
-    let (ic, is) = (sb - sa, ca - cb);
-    let icc = 0.5 * len + 0.5 * (sb * cb - sa * ca);
-    let (iss, ics) = (len - icc, 0.5 * (sb * sb - sa * sa));
-    let d0 = -(cx.z0 + cx.u.z * m.z);
-    let (ux, uy) = (m.rho * cx.u.x, m.rho * cx.u.y);
-    let i_d = d0 * len - (ux * ic + uy * is);
-    let i_dc = d0 * ic - (ux * icc + uy * ics);
-    let i_ds = d0 * is - (ux * ics + uy * iss);
-    let scale = -cx.hp.rho_g * lat.weight;
-    let f = DVec3::new(m.sin * i_dc, m.sin * i_ds, m.cos * i_d) * scale;
-    if f == DVec3::ZERO {
-        return;
-    }
-    let area = lat.weight * len;
-    acc.area += area;
-    acc.force += f;
-    acc.torque += DVec3::new(i_ds, -i_dc, 0.0) * (scale * lat.k);
-    if let Some(sink) = sink {
-        // One load at the piece's middle carries its whole vertical force.
-        let r_b = DVec3::new(m.rho * cm, m.rho * sm, m.z);
-        let normal = DVec3::new(m.sin * cm, m.sin * sm, m.cos);
-        sink.push(r_b, f, area * cx.u.dot(normal).abs());
-    }
+/// τ = tan(φ/16) from t = tan(φ/2), φ ∈ [−π, π] (t = ±∞ at φ = ±π).
+fn sixteenth_from_half(t: f64) -> f64 {
+    half_tangent(half_tangent(half_tangent(t)))
 }
 
-/// What every node of one evaluation shares (body frame).
+/// What every node of one evaluation shares (evaluation frame).
 struct Ctx<'a> {
     hp: &'a HydroParams,
     z0: f64,
-    /// The water's up direction.
+    /// The water's up direction, (−h, 0, u_z).
     u: DVec3,
-    /// |u_xy|
-    horizontal: f64,
-    /// Azimuth of u's horizontal part: the highest point of every latitude.
-    theta_u: f64,
-    v_b: DVec3,
-    w_b: DVec3,
+    v: DVec3,
+    w: DVec3,
     /// Centre-of-mass speed U.
     speed: f64,
     /// A ventilated piece receding from the water carries nothing (only the loaded faces feel
@@ -444,26 +668,26 @@ struct Ctx<'a> {
 
 /// Where the loads of a recorded evaluation go (world frame).
 struct Loads<'a> {
-    rot: &'a DMat3,
+    world_from_eval: &'a DMat3,
     position: DVec3,
     loads: &'a mut Vec<FaceLoad>,
 }
 
 impl Loads<'_> {
-    /// The vertical load of force `f` (body frame) acting at `r_b`, over `footprint` m².
-    fn push(&mut self, r_b: DVec3, f: DVec3, footprint: f64) {
-        let world = self.position + *self.rot * r_b;
+    /// The vertical load of force `f` (evaluation frame) acting at `r`, over `footprint` m².
+    fn push(&mut self, r: DVec3, f: DVec3, footprint: f64) {
+        let world = self.position + *self.world_from_eval * r;
         self.loads.push(FaceLoad {
             x: world.x,
             y: world.y,
-            fz: (*self.rot * f).z,
+            fz: (*self.world_from_eval * f).z,
             footprint,
         });
     }
 }
 
 /// One wet latitude: its meridian point, the weight of its ψ node times ρR, k = ρ cos ψ −
-/// z sin ψ (r × N = k (sin θ, −cos θ, 0)), and its normal velocity P + Q cos θ + S sin θ.
+/// z sin ψ (r × N = k (sin φ, −cos φ, 0)), and its normal velocity P + Q cos φ + S sin φ.
 struct Latitude {
     m: Meridian,
     weight: f64,
@@ -648,6 +872,187 @@ mod tests {
             assert!(!below(-highest + 1e-9), "{highest}");
             assert!(below(-highest - 1e-4), "{highest} {q:?}");
         }
+    }
+
+    #[test]
+    fn polar_sin_cos_is_the_library_one_to_rounding() {
+        let n = 200_000;
+        for i in 0..=n {
+            let psi = std::f64::consts::PI * i as f64 / n as f64;
+            let (s, c) = polar_sin_cos(psi);
+            let (s0, c0) = psi.sin_cos();
+            assert!(
+                (s - s0).abs() <= 4e-16 && (c - c0).abs() <= 4e-16,
+                "{psi}: {s} {c} vs {s0} {c0}"
+            );
+        }
+        assert_eq!(polar_sin_cos(4.0), 4.0f64.sin_cos());
+    }
+
+    #[test]
+    fn small_atan_is_the_library_one_to_rounding() {
+        let n = 100_000;
+        for i in 0..=n {
+            let x = 0.4143 * i as f64 / n as f64;
+            let (a, a0) = (small_atan(x), x.atan());
+            assert!(
+                (a - a0).abs() <= 2.0 * f64::EPSILON * a0.max(f64::MIN_POSITIVE),
+                "{x}: {a} vs {a0}"
+            );
+        }
+        assert_eq!(small_atan(3.0), 3.0f64.atan());
+    }
+
+    /// The wet range's ends in closed form are the roots of the lowest point's height along the
+    /// meridian that root finding gives.
+    #[test]
+    fn wet_range_ends_are_the_roots_of_the_lowest_height() {
+        use std::f64::consts::PI;
+        let smooth = SmoothLens::new(0.05, 0.006, 8, 2);
+        let mut seed = 23;
+        let mut found = 0;
+        for _ in 0..2000 {
+            let tilt = PI * rng(&mut seed);
+            let (h, uz) = (tilt.sin(), tilt.cos());
+            let support = (0.05f64 * 0.05 * h * h + 0.006 * 0.006 * uz * uz).sqrt();
+            let z0 = support * (1.0 - 2.0 * rng(&mut seed));
+            let lowest = |psi: f64| {
+                let m = smooth.at(psi);
+                z0 + uz * m.z - m.rho * h
+            };
+            let psi_star = h.atan2(-uz);
+            for (lo, hi, end) in [
+                (0.0, psi_star, z0 + uz * 0.006),
+                (psi_star, PI, z0 - uz * 0.006),
+            ] {
+                if end <= 0.0 {
+                    continue;
+                }
+                let closed = smooth.touching(z0, h, uz, lo, hi);
+                let found_by_root = root(lowest, lo, hi);
+                assert!(
+                    (closed - found_by_root).abs() < 1e-9,
+                    "tilt {tilt} z0 {z0}: {closed} vs {found_by_root}"
+                );
+                found += 1;
+            }
+        }
+        assert!(found > 1000, "{found}");
+    }
+
+    /// One latitude's arc, integrated by `latitude` (algebraic ends and cuts in τ, the pressure
+    /// in closed form), against a brute force: the arc and its cuts found with angles (acos,
+    /// atan2) and `hydro::face_force` summed at 48 Gauss nodes in φ on every piece.
+    #[test]
+    fn a_latitude_matches_face_force_summed_densely() {
+        use crate::sim::hydro::face_force;
+        use std::f64::consts::{PI, TAU};
+        let smooth = SmoothLens::new(0.05, 0.006, 8, 48);
+        let dense = gauss_legendre(48);
+        let mut seed = 17;
+        let mut checked = 0;
+        let cases = [
+            (ForceLaw::Rosellini, true, false),
+            (ForceLaw::Rosellini, false, true),
+            (ForceLaw::Paper, false, false),
+            (ForceLaw::Paper, false, true),
+            (ForceLaw::Bocquet, true, true),
+        ];
+        // The pressure alone is exact (to rounding); the friction, |v_t| v_t, is summed at nodes
+        // on both sides and converges more slowly (Bocquet's, U² along v_t, whose direction turns
+        // fast where v_t nearly vanishes, too slowly for a check).
+        for ((law, ventilated, opposing), friction) in
+            cases.into_iter().flat_map(|c| [(c, false), (c, true)])
+        {
+            let mut hp = hp(law);
+            hp.ventilated = ventilated;
+            hp.opposing = opposing;
+            if !friction {
+                hp.friction = 0.0;
+            }
+            if friction && law == ForceLaw::Bocquet {
+                continue;
+            }
+            let tolerance = if friction { 1e-6 } else { 1e-10 };
+            for _ in 0..200 {
+                let psi = PI * rng(&mut seed);
+                let m = smooth.at(psi);
+                let h = rng(&mut seed);
+                let cx = Ctx {
+                    hp: &hp,
+                    z0: 0.01 * (rng(&mut seed) - 0.5),
+                    u: DVec3::new(-h, 0.0, (1.0 - h * h).sqrt()),
+                    v: DVec3::new(8.0 * rng(&mut seed), rng(&mut seed) - 0.5, -rng(&mut seed)),
+                    w: DVec3::new(
+                        20.0 * (rng(&mut seed) - 0.5),
+                        20.0 * (rng(&mut seed) - 0.5),
+                        90.0,
+                    ),
+                    speed: 9.0,
+                    receding_is_dry: hp.ventilated && !(hp.hydrostatic_wetted && hp.rho_g != 0.0),
+                };
+                let k = m.rho * m.cos - m.z * m.sin;
+                let lat = Latitude {
+                    m,
+                    weight: 1e-3,
+                    k,
+                    p: m.cos * cx.v.z,
+                    q: m.sin * cx.v.x - k * cx.w.y,
+                    s: m.sin * cx.v.y + k * cx.w.x,
+                };
+                let mut acc = Sums::default();
+                smooth.latitude(&cx, &lat, &mut acc, None);
+                // The brute force: the wet arc |φ| ≤ β and the cuts θ_v ± γ, as angles.
+                let (a_coef, b_coef) = (cx.z0 + cx.u.z * m.z, m.rho * h);
+                let beta = if a_coef <= -b_coef {
+                    PI
+                } else if a_coef >= b_coef {
+                    continue;
+                } else {
+                    (a_coef / b_coef).acos()
+                };
+                let mut ends = vec![-beta, beta];
+                let r = lat.q.hypot(lat.s);
+                if r > lat.p.abs() {
+                    let (theta_v, gamma) = (lat.s.atan2(lat.q), (-lat.p / r).acos());
+                    for cut in [theta_v - gamma, theta_v + gamma] {
+                        let cut = cut - TAU * ((cut + PI) / TAU).floor();
+                        if cut > -beta && cut < beta {
+                            ends.push(cut);
+                        }
+                    }
+                }
+                ends.sort_by(f64::total_cmp);
+                let mut want = Sums::default();
+                for piece in ends.windows(2) {
+                    let (mid, half) = (0.5 * (piece[0] + piece[1]), 0.5 * (piece[1] - piece[0]));
+                    for &(x, w) in &dense {
+                        let (sn, cs) = (mid + half * x).sin_cos();
+                        let r = DVec3::new(m.rho * cs, m.rho * sn, m.z);
+                        let normal = DVec3::new(m.sin * cs, m.sin * sn, m.cos);
+                        let vn = lat.p + lat.q * cs + lat.s * sn;
+                        let depth = -(cx.z0 + cx.u.dot(r));
+                        let area = lat.weight * w * half;
+                        let v = cx.v + cx.w.cross(r);
+                        let f = face_force(&hp, normal, area, v, vn, cx.speed, depth);
+                        want.force += f;
+                        want.torque += r.cross(f);
+                    }
+                }
+                let scale = want.force.length().max(1e-9);
+                assert!(
+                    (acc.force - want.force).length() < tolerance * scale
+                        && (acc.torque - want.torque).length() < tolerance * scale * 0.05,
+                    "{law:?} friction {friction} ψ {psi}: {:?} vs {:?}; {:?} vs {:?}",
+                    acc.force,
+                    want.force,
+                    acc.torque,
+                    want.torque
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 800, "{checked}");
     }
 
     /// A submerged lens at rest feels Archimedes' ρ g V upwards and no torque: the quadrature

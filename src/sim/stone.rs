@@ -6,6 +6,8 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
+use std::sync::OnceLock;
+
 use super::kernel::KernelMesh;
 use super::params::{Attitude, ParamError, Quadrature, Shape, StoneParams};
 use super::smooth::SmoothLens;
@@ -286,7 +288,7 @@ fn plate_mesh(length: f64, width: f64, thickness: f64) -> Mesh {
 }
 
 /// The rigid stone: mesh about its centre of mass, mass and inertia.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Stone {
     pub shape: Shape,
     pub mass: f64,
@@ -300,11 +302,32 @@ pub struct Stone {
     /// Body-frame outward unit normals and areas of the triangles.
     pub normals: Vec<DVec3>,
     pub areas: Vec<f64>,
-    /// The mesh arranged for the force kernel (struct-of-arrays, bounding hierarchies).
-    pub kernel: KernelMesh,
+    /// How the mesh is laid out in rings, if it is (what the force kernel is built with).
+    layout: Option<RevolutionLayout>,
+    /// The mesh arranged for the force kernel (struct-of-arrays, bounding hierarchies), built on
+    /// first use: a smooth lens over flat water never needs it.
+    kernel: OnceLock<KernelMesh>,
     /// `stone.quadrature: Smooth`: the lens's smooth ellipsoid, on which the forces are
     /// integrated over flat water (its clearance and sink test too: the mesh then only draws it).
     pub smooth: Option<SmoothLens>,
+}
+
+/// Equal stones have equal meshes, mass properties and smooth bodies (the kernel is built from
+/// the mesh).
+impl PartialEq for Stone {
+    fn eq(&self, other: &Self) -> bool {
+        self.shape == other.shape
+            && self.mass == other.mass
+            && self.mesh == other.mesh
+            && self.inertia == other.inertia
+            && self.inv_inertia == other.inv_inertia
+            && self.volume == other.volume
+            && self.bounding_radius == other.bounding_radius
+            && self.normals == other.normals
+            && self.areas == other.areas
+            && self.layout == other.layout
+            && self.smooth == other.smooth
+    }
 }
 
 impl Stone {
@@ -337,7 +360,6 @@ impl Stone {
             .map(|i| mesh.normal_area(i))
             .unzip();
         let layout = revolution_layout(&params.shape, params.segments, params.bands);
-        let kernel = KernelMesh::new(&mesh, &normals, &areas, layout.as_ref());
         let smooth = match (params.quadrature, params.shape) {
             (Quadrature::Smooth { meridian, around }, Shape::Lens { radius, thickness }) => Some(
                 SmoothLens::new(radius, 0.5 * thickness, meridian as usize, around as usize),
@@ -353,7 +375,8 @@ impl Stone {
             None => (props.inertia, inv_inertia, props.volume),
         };
         Ok(Self {
-            kernel,
+            layout,
+            kernel: OnceLock::new(),
             smooth,
             shape: params.shape,
             mass: params.mass,
@@ -375,7 +398,14 @@ impl Stone {
         if self.smooth.is_some() && slope == 0.0 {
             return Some(0.0);
         }
-        self.kernel.facet_gap(slope)
+        self.kernel().facet_gap(slope)
+    }
+
+    /// The mesh arranged for the force kernel.
+    pub fn kernel(&self) -> &KernelMesh {
+        self.kernel.get_or_init(|| {
+            KernelMesh::new(&self.mesh, &self.normals, &self.areas, self.layout.as_ref())
+        })
     }
 
     /// Principal moments (I_xx, I_yy, I_zz) in the body frame (the meshes are built on their

@@ -133,7 +133,7 @@ fn the_touch_search_never_misses_a_touch_over_a_wake() {
 fn a_spinning_lens_lowest_vertex_wobbles_by_at_most_its_facet_gap() {
     let sim = wake();
     let stone = sim.stone();
-    let gap = stone.kernel.facet_gap(0.0).unwrap();
+    let gap = stone.kernel().facet_gap(0.0).unwrap();
     let expected = 0.05 * (1.0 - (std::f64::consts::PI / 64.0).cos());
     assert!(
         gap >= expected && gap < 1.01 * expected,

@@ -74,8 +74,9 @@ const MODEL: &[(&str, &str, &str)] = &[
     (
         "Smooth lens",
         "An option for a lens over flat water (Stone panel, Forces on): the same law summed over \
-         the smooth ellipsoid the mesh stands for, at Gauss nodes along the wet latitudes and \
-         around each waterline arc, found exactly instead of clipped; the mesh then only draws it.",
+         the smooth ellipsoid the mesh stands for: Gauss nodes along the wet latitudes, and around \
+         each waterline arc (found exactly instead of clipped) the pressure in closed form and the \
+         friction at a few nodes; the mesh then only draws it.",
         "Gauss–Legendre quadrature; docs/studies/kernel.md",
     ),
     (

@@ -493,8 +493,8 @@ fn mesh_rows_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
             "quadrature",
             "Forces on",
             "Where the force law is summed: every wetted triangle of the mesh, or the smooth lens \
-             the mesh stands for (Gauss nodes along the wet latitudes × around each arc; flat water \
-             only, so wavy contact must be off)",
+             the mesh stands for (Gauss nodes along the wet latitudes × friction nodes around each \
+             arc, the pressure exact around it; flat water only, so wavy contact must be off)",
             |ui| quadrature_ui(ui, stone),
         );
     }
@@ -509,8 +509,8 @@ fn quadrature_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
         if r.changed() {
             stone.quadrature = if smooth {
                 Quadrature::Smooth {
-                    meridian: 16,
-                    around: 6,
+                    meridian: 12,
+                    around: 2,
                 }
             } else {
                 Quadrature::Faces
@@ -526,7 +526,7 @@ fn quadrature_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
                 (
                     around,
                     " nodes",
-                    "Gauss nodes around each piece of a wet arc",
+                    "Gauss nodes for the friction on each piece of a wet arc (the pressure is exact around it)",
                 ),
             ] {
                 let s = ui

@@ -1807,7 +1807,7 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
     ks: &mut KernelScratch,
     loads: &mut Vec<FaceLoad>,
 ) -> ForceSum {
-    let km = &stone.kernel;
+    let km = stone.kernel();
     let pose = call.pose;
     if ks.sorted.as_ref().map(|s| s.orientation) != Some(pose.orientation) {
         ks.sorted = Some(Sorted::new(km, pose.orientation));
@@ -1879,7 +1879,7 @@ fn body_path<const LAW: u8>(
     ks: &mut KernelScratch,
     loads: &mut Vec<FaceLoad>,
 ) -> ForceSum {
-    let km = &stone.kernel;
+    let km = stone.kernel();
     if let Some(rev) = &km.revolution {
         return rings::ring_path::<LAW>(stone, rev, call, ks, loads);
     }
@@ -2064,7 +2064,7 @@ mod tests {
             quadrature: Default::default(),
         })
         .unwrap();
-        let faces = &stone.kernel.faces;
+        let faces = &stone.kernel().faces;
         let end = faces.len() / LANES * LANES;
         let mut seed = 12345u64;
         for law in ForceLaw::ALL {
@@ -2171,7 +2171,7 @@ mod tests {
             quadrature: Default::default(),
         })
         .unwrap();
-        let km = &stone.kernel;
+        let km = stone.kernel();
         assert_eq!(km.faces.len(), stone.mesh.triangles.len());
         assert_eq!(km.vertices.len(), stone.mesh.positions.len());
         for node in &km.face_nodes {

@@ -401,7 +401,7 @@ pub(super) fn ring_path<const LAW: u8>(
     band.clear();
     let culls = c.culls_receding();
     if !flat {
-        heights.start(stone.kernel.vertex_count);
+        heights.start(stone.kernel().vertex_count);
     }
     let m = rs.prepare(rev, u);
     let (mut wet_arcs, mut maybe_arcs) =
@@ -645,7 +645,11 @@ mod tests {
         for segments in [9, 32, 64, 96, 256] {
             for shape in [LENS, DISK] {
                 let s = stone(shape, segments);
-                let rev = s.kernel.revolution.as_ref().expect("ring layout accepted");
+                let rev = s
+                    .kernel()
+                    .revolution
+                    .as_ref()
+                    .expect("ring layout accepted");
                 assert_eq!(rev.faces.len(), s.mesh.triangles.len());
             }
         }
@@ -658,7 +662,11 @@ mod tests {
                 quadrature: Default::default(),
             })
             .unwrap();
-            let rev = s.kernel.revolution.as_ref().expect("banded lens accepted");
+            let rev = s
+                .kernel()
+                .revolution
+                .as_ref()
+                .expect("banded lens accepted");
             assert_eq!(rev.faces.len(), s.mesh.triangles.len());
         }
         let plate = Shape::Plate {
@@ -666,7 +674,7 @@ mod tests {
             width: 0.05,
             thickness: 0.01,
         };
-        assert!(stone(plate, 32).kernel.revolution.is_none());
+        assert!(stone(plate, 32).kernel().revolution.is_none());
         let s = stone(LENS, 32);
         let layout = crate::sim::stone::revolution_layout(&LENS, 32, None).unwrap();
         let reach = 0.05;
@@ -686,7 +694,7 @@ mod tests {
     #[test]
     fn arcs_bound_the_exact_classification() {
         let s = stone(LENS, 64);
-        let rev = s.kernel.revolution.as_ref().unwrap();
+        let rev = s.kernel().revolution.as_ref().unwrap();
         let mut seed = 77u64;
         let mut rnd = || {
             seed ^= seed << 13;

@@ -99,15 +99,15 @@ pub fn front_settings(quick: bool) -> FrontSettings {
     if quick {
         FrontSettings {
             meshes: vec![(16, 8)],
-            smooth: vec![(8, 4)],
+            smooth: vec![(8, 2)],
             tolerances: vec![1e-6, 1e-4],
             reference: (24, 12, 1e-7),
         }
     } else {
         FrontSettings {
             meshes: vec![(32, 16), (32, 32), (48, 24), (48, 32), (64, 32), (96, 48)],
-            smooth: vec![(8, 4), (12, 4), (12, 6), (16, 6)],
-            tolerances: vec![1e-6, 1e-5, 1e-4, 1e-3],
+            smooth: vec![(8, 2), (12, 2), (16, 2), (12, 6)],
+            tolerances: vec![1e-6, 1e-5, 3e-5, 1e-4, 1e-3],
             reference: (192, 96, 1e-8),
         }
     }

@@ -478,9 +478,9 @@ pub fn discretisation_name((mesh, smooth): Discretisation) -> String {
 /// The smooth quadratures (meridian × around nodes) run beside the meshes of the bands sweep.
 pub fn band_smooth(quick: bool) -> Vec<(u32, u32)> {
     if quick {
-        vec![(8, 4)]
+        vec![(8, 2)]
     } else {
-        vec![(8, 4), (12, 4), (12, 6), (16, 6)]
+        vec![(8, 2), (12, 2), (16, 2), (12, 6)]
     }
 }
 
