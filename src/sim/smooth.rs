@@ -197,6 +197,17 @@ impl SmoothLens {
     /// root is the one that also solves the unsquared equation (the other has residual 2 z₀ D).
     /// Root finding on f where rounding leaves neither close enough.
     fn touching(&self, z0: f64, h: f64, uz: f64, lo: f64, hi: f64) -> f64 {
+        self.touching_closed(z0, h, uz, lo, hi).unwrap_or_else(|| {
+            let lowest = |psi: f64| {
+                let m = self.at(psi);
+                z0 + uz * m.z - m.rho * h
+            };
+            root(lowest, lo, hi)
+        })
+    }
+
+    /// [`Self::touching`]'s closed form, `None` where rounding leaves no direction close enough.
+    fn touching_closed(&self, z0: f64, h: f64, uz: f64, lo: f64, hi: f64) -> Option<f64> {
         let (a2, c2) = (self.a * self.a, self.c * self.c);
         // α Y² + 2β X Y + γ X² = 0 in X = cos ψ, Y = sin ψ.
         let alpha = a2 * (h * h * a2 - z0 * z0);
@@ -228,16 +239,7 @@ impl SmoothLens {
         }
         // Rounding leaves the residual at some ulps of the terms; the other direction's is 2|z₀|D.
         let tolerance = 1e-9 * (a2 * h + c2 * uz.abs() + self.a * z0.abs());
-        match best {
-            Some((psi, r)) if r <= tolerance => psi,
-            _ => {
-                let lowest = |psi: f64| {
-                    let m = self.at(psi);
-                    z0 + uz * m.z - m.rho * h
-                };
-                root(lowest, lo, hi)
-            }
-        }
+        best.filter(|&(_, r)| r <= tolerance).map(|(psi, _)| psi)
     }
 
     /// Forces and torque on the lens over flat water (world frame); with `record` the vertical
@@ -910,7 +912,7 @@ mod tests {
         use std::f64::consts::PI;
         let smooth = SmoothLens::new(0.05, 0.006, 8, 2);
         let mut seed = 23;
-        let mut found = 0;
+        let (mut found, mut fallbacks) = (0, 0);
         for _ in 0..2000 {
             let tilt = PI * rng(&mut seed);
             let (h, uz) = (tilt.sin(), tilt.cos());
@@ -928,7 +930,10 @@ mod tests {
                 if end <= 0.0 {
                     continue;
                 }
-                let closed = smooth.touching(z0, h, uz, lo, hi);
+                let Some(closed) = smooth.touching_closed(z0, h, uz, lo, hi) else {
+                    fallbacks += 1;
+                    continue;
+                };
                 let found_by_root = root(lowest, lo, hi);
                 assert!(
                     (closed - found_by_root).abs() < 1e-9,
@@ -937,7 +942,11 @@ mod tests {
                 found += 1;
             }
         }
-        assert!(found > 1000, "{found}");
+        // The closed form serves all but the odd pose where rounding blurs it.
+        assert!(
+            found > 1000 && fallbacks * 100 < found,
+            "{found} {fallbacks}"
+        );
     }
 
     /// One latitude's arc, integrated by `latitude` (algebraic ends and cuts in τ, the pressure

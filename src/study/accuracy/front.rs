@@ -106,7 +106,7 @@ pub fn front_settings(quick: bool) -> FrontSettings {
     } else {
         FrontSettings {
             meshes: vec![(32, 16), (32, 32), (48, 24), (48, 32), (64, 32), (96, 48)],
-            smooth: vec![(8, 2), (12, 2), (16, 2), (12, 6)],
+            smooth: vec![(8, 2), (10, 2), (12, 2), (16, 2), (12, 6)],
             tolerances: vec![1e-6, 1e-5, 3e-5, 1e-4, 1e-3],
             reference: (192, 96, 1e-8),
         }

@@ -480,7 +480,7 @@ pub fn band_smooth(quick: bool) -> Vec<(u32, u32)> {
     if quick {
         vec![(8, 2)]
     } else {
-        vec![(8, 2), (12, 2), (16, 2), (12, 6)]
+        vec![(8, 2), (10, 2), (12, 2), (16, 2), (12, 6)]
     }
 }
 
