@@ -109,18 +109,24 @@ pub fn face_force(
             hp.lift * hp.density * area * speed * vn_loaded
         }
     };
-    // As printed, every loaded face is pushed along −N; opposing its motion, a receding face
-    // (v_n < 0) is pulled along +N and a face with v_n = 0 carries no dynamic pressure.
-    let sign = if !hp.opposing || vn > 0.0 {
+    let sign = pressure_sign(hp.opposing, vn);
+    let hydrostatic = hp.rho_g * depth.max(0.0) * area;
+    let f = -normal * (sign * pressure + hydrostatic);
+    f + friction_force(hp, v - normal * v.dot(normal), area, speed)
+}
+
+/// The sign of the dynamic pressure along −N on a face of normal velocity `vn`: as printed every
+/// loaded face is pushed along −N; opposing its motion (`opposing`), a receding face (v_n < 0) is
+/// pulled along +N and a face with v_n = 0 carries none.
+#[inline(always)]
+pub fn pressure_sign(opposing: bool, vn: f64) -> f64 {
+    if !opposing || vn > 0.0 {
         1.0
     } else if vn < 0.0 {
         -1.0
     } else {
         0.0
-    };
-    let hydrostatic = hp.rho_g * depth.max(0.0) * area;
-    let f = -normal * (sign * pressure + hydrostatic);
-    f + friction_force(hp, v - normal * v.dot(normal), area, speed)
+    }
 }
 
 /// The friction drag on a loaded face of `area` whose tangential velocity is `vt`: along −v_t,

@@ -39,7 +39,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::hydro::{friction_force, FaceLoad, ForceSum, HydroParams, Pose};
+use super::hydro::{friction_force, pressure_sign, FaceLoad, ForceSum, HydroParams, Pose};
 use super::params::ForceLaw;
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (n ≥ 1), nodes ascending.
@@ -473,13 +473,7 @@ fn dynamic_pressure(
     vn_mid: f64,
     p: &mut Harmonics,
 ) {
-    let sign = if !hp.opposing || vn_mid > 0.0 {
-        1.0
-    } else if vn_mid < 0.0 {
-        -1.0
-    } else {
-        0.0
-    };
+    let sign = pressure_sign(hp.opposing, vn_mid);
     match hp.law {
         ForceLaw::Rosellini => {
             // C_L ρ U max(0, v_n), or C_L ρ U |v_n| with the sign: v_n itself.

@@ -29,7 +29,7 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::contact::clip_triangle;
-use super::hydro::{FaceLoad, ForceSum, HydroParams, Pose, Surface};
+use super::hydro::{pressure_sign, FaceLoad, ForceSum, HydroParams, Pose, Surface};
 use super::params::ForceLaw;
 use super::stone::{Mesh, RevolutionLayout, Stone};
 
@@ -839,13 +839,7 @@ fn lane_law<const N: usize, const LAW: u8>(
                 )
             }
         };
-        let sign = if !c.opposing || vn > 0.0 {
-            1.0
-        } else if vn < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
+        let sign = pressure_sign(c.opposing, vn);
         let hydrostatic = c.rho_g * depth[l].max(0.0) * area[l];
         let p = sign * pressure + hydrostatic;
         let (mut fx, mut fy, mut fz) = (-nx * p, -ny * p, -nz * p);
