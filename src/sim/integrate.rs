@@ -109,9 +109,13 @@ pub struct Dynamics<'a> {
 }
 
 /// Whether a stone meets the water in the Résal frame: `axial_spin: Resal`, free rotation, a
-/// disk or a lens (a body of revolution, its inertia axisymmetric for any segment count ≥ 3).
+/// disk or a lens (a body of revolution, its inertia axisymmetric for any segment count ≥ 3) whose
+/// faces meet the water (the smooth lens's forces do not depend on its azimuth).
 pub fn resal_applies(stone: &Stone, rotation: Rotation, axial_spin: AxialSpin) -> bool {
-    axial_spin == AxialSpin::Resal && rotation == Rotation::Free && stone.shape.is_revolution()
+    axial_spin == AxialSpin::Resal
+        && rotation == Rotation::Free
+        && stone.shape.is_revolution()
+        && stone.smooth.is_none()
 }
 
 /// The orientation the mesh meets the water at: the stone's own, or with `resal` the Résal frame

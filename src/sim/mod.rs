@@ -34,6 +34,8 @@ pub mod water;
 #[cfg(test)]
 mod touch_tests;
 
+use std::cell::Cell;
+
 use glam::{DMat3, DQuat, DVec3};
 use serde::Serialize;
 
@@ -1043,6 +1045,7 @@ impl Simulation {
             slope: surface.max_slope(),
             air: self.air,
             hidden_exits: h_contact > h_max,
+            last_flight: Cell::new(None),
         };
         let m = &mut self.motion;
         let prev = m.state;
@@ -1145,12 +1148,12 @@ impl Simulation {
     /// offset at which the lowest vertex reaches the surface.
     fn bisect_crossing(&self, from: &BodyState, h: f64, forward: bool) -> f64 {
         let sign = if forward { 1.0 } else { -1.0 };
-        let wet = |s: f64| self.clearance(&self.fly(from, sign * s)) <= 0.0;
+        let clear = |s: f64| self.clearance(&self.fly(from, sign * s));
         // Forwards: dry at 0, wet at h. Backwards from a dry state: dry at 0, wet at h.
-        if !wet(h) {
+        if clear(h) > 0.0 {
             return h;
         }
-        first_wet(0.0, h, 60, wet)
+        first_wet_by(0.0, h, 60, clear)
     }
 }
 
@@ -1212,6 +1215,49 @@ fn first_wet(lo: f64, hi: f64, iterations: u32, wet: impl Fn(f64) -> bool) -> f6
             hi = mid;
         } else {
             lo = mid;
+        }
+    }
+    hi
+}
+
+/// The first wet offset in [lo, hi] of a flight whose clearance is `clear(t)`, dry at `lo` and wet
+/// at `hi`: Illinois false position on the clearance with the bracket kept (the clearance is smooth
+/// along a flight, so it takes a few flights where bisection takes fifty), to floating-point
+/// resolution or `iterations` steps; the wet end. Ends that do not bracket fall back to halving
+/// on wet or dry, as [`first_wet`].
+fn first_wet_by(lo: f64, hi: f64, iterations: u32, clear: impl Fn(f64) -> f64) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    let (mut c_lo, mut c_hi) = (clear(lo), clear(hi));
+    if !(c_lo > 0.0 && c_hi <= 0.0 && c_lo.is_finite() && c_hi.is_finite()) {
+        return first_wet(lo, hi, iterations, |t| clear(t) <= 0.0);
+    }
+    let mut side = 0;
+    for _ in 0..iterations {
+        let mut t = lo + (hi - lo) * (c_lo / (c_lo - c_hi));
+        if !(t > lo && t < hi) {
+            t = 0.5 * (lo + hi);
+            if t <= lo || t >= hi {
+                break;
+            }
+        }
+        let c = clear(t);
+        if c <= 0.0 {
+            hi = t;
+            c_hi = c;
+            if side == -1 {
+                c_lo *= 0.5;
+            }
+            side = -1;
+        } else {
+            lo = t;
+            c_lo = c;
+            if side == 1 {
+                c_hi *= 0.5;
+            }
+            side = 1;
+        }
+        if hi - lo <= 2.0 * f64::EPSILON * hi.abs().max(f64::MIN_POSITIVE) {
+            break;
         }
     }
     hi
@@ -1289,6 +1335,9 @@ struct StepContext<'a> {
     /// A contact step that ends in the water but left it at a stage is shortened to that stage
     /// (`steps_across_ticks`: steps longer than the tick could hide a short hop).
     hidden_exits: bool,
+    /// The last flight flown (start, duration, end): a flight step flies the interval its touch
+    /// probe has just flown to prove it clear.
+    last_flight: Cell<Option<(BodyState, f64, BodyState)>>,
 }
 
 impl StepContext<'_> {
@@ -1303,14 +1352,21 @@ impl StepContext<'_> {
     }
 
     fn flight(&self, s: &BodyState, t: f64) -> BodyState {
-        fly(
+        if let Some((s0, t0, end)) = self.last_flight.get() {
+            if s0 == *s && t0 == t {
+                return end;
+            }
+        }
+        let end = fly(
             self.dy.stone,
             self.dy.rotation,
             self.dy.gravity,
             self.air.as_ref(),
             s,
             t,
-        )
+        );
+        self.last_flight.set(Some((*s, t, end)));
+        end
     }
 
     /// The first touch along the exact flight from `s` over [0, h] (see [`first_touch`]): `None`
@@ -1455,7 +1511,7 @@ fn fixed_step(cx: &StepContext, m: &mut Motion, h_max: f64) -> Step {
         }
         Some((lo, hi)) if hi > 0.0 && cx.clear(&cx.flight(&prev, h_max)) > 0.0 => {
             in_flight(m);
-            let t = first_wet(lo, hi, 60, |t| cx.clear(&cx.flight(&prev, t)) <= 0.0);
+            let t = first_wet_by(lo, hi, 60, |t| cx.clear(&cx.flight(&prev, t)));
             return Step::flight(cx.flight(&prev, t), t);
         }
         Some(_) => {}
@@ -1574,7 +1630,7 @@ fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64, h_contact: f64) -
             None => Step::flight(cx.flight(&s, h_max), h_max),
             Some((lo, hi)) => {
                 // Locate the first touch by bisection on the exact flight.
-                let t = first_wet(lo, hi, 80, |t| cx.clear(&cx.flight(&s, t)) <= 0.0);
+                let t = first_wet_by(lo, hi, 80, |t| cx.clear(&cx.flight(&s, t)));
                 Step::flight(cx.flight(&s, t), t)
             }
         };

@@ -196,6 +196,7 @@ fn with_context<R>(sim: &Simulation, f: impl FnOnce(&StepContext) -> R) -> R {
         slope: surface.max_slope(),
         air: sim.air,
         hidden_exits: false,
+        last_flight: std::cell::Cell::new(None),
     };
     f(&cx)
 }
