@@ -189,25 +189,31 @@ impl SmoothLens {
         position.z + rise < 0.0
     }
 
-    /// The polar angle ψ in [`lo`, `hi`] of the latitude whose lowest point is at the water's
-    /// height, f(ψ) = z₀ + u_z z(ψ) − h ρ(ψ) = 0 with f(lo) > 0 ≥ f(hi) or the reverse (h = |u_xy|).
-    /// Times D = √(a² sin²ψ + c² cos²ψ) > 0 it reads z₀ D = h a² sin ψ − u_z c² cos ψ; squared,
-    /// a quadratic form in (cos ψ, sin ψ) whose discriminant is a²c²z₀²(S² − z₀²) (S the support,
-    /// √(a²h² + c²u_z²)), so its two directions come in closed form; of those in the bracket the
-    /// root is the one that also solves the unsquared equation (the other has residual 2 z₀ D).
-    /// Root finding on f where rounding leaves neither close enough.
-    fn touching(&self, z0: f64, h: f64, uz: f64, lo: f64, hi: f64) -> f64 {
-        self.touching_closed(z0, h, uz, lo, hi).unwrap_or_else(|| {
+    /// The polar angle ψ of the latitude whose lowest point is at the water's height, f(ψ) = z₀ +
+    /// u_z z(ψ) − h ρ(ψ) = 0 (h = |u_xy|), on the pole's side of the lowest point's ψ* (`first`:
+    /// in [0, ψ*], else in [ψ*, π]), where f changes sign. Times D = √(a² sin²ψ + c² cos²ψ) > 0 it
+    /// reads z₀ D = h a² sin ψ − u_z c² cos ψ; squared, a quadratic form in (cos ψ, sin ψ) whose
+    /// discriminant is a²c²z₀²(S² − z₀²) (S the support, √(a²h² + c²u_z²)), so its two directions
+    /// come in closed form; of those on that side the root is the one that also solves the
+    /// unsquared equation (the other has residual 2 z₀ D). Root finding on f where rounding leaves
+    /// neither close enough.
+    fn touching(&self, z0: f64, h: f64, uz: f64, first: bool) -> f64 {
+        self.touching_closed(z0, h, uz, first).unwrap_or_else(|| {
             let lowest = |psi: f64| {
                 let m = self.at(psi);
                 z0 + uz * m.z - m.rho * h
             };
-            root(lowest, lo, hi)
+            let psi_star = h.atan2(-uz);
+            if first {
+                root(lowest, 0.0, psi_star)
+            } else {
+                root(lowest, psi_star, std::f64::consts::PI)
+            }
         })
     }
 
     /// [`Self::touching`]'s closed form, `None` where rounding leaves no direction close enough.
-    fn touching_closed(&self, z0: f64, h: f64, uz: f64, lo: f64, hi: f64) -> Option<f64> {
+    fn touching_closed(&self, z0: f64, h: f64, uz: f64, first: bool) -> Option<f64> {
         let (a2, c2) = (self.a * self.a, self.c * self.c);
         // α Y² + 2β X Y + γ X² = 0 in X = cos ψ, Y = sin ψ.
         let alpha = a2 * (h * h * a2 - z0 * z0);
@@ -215,31 +221,31 @@ impl SmoothLens {
         let gamma = c2 * (uz * uz * c2 - z0 * z0);
         let disc = a2 * c2 * z0 * z0 * ((a2 * h * h + c2 * uz * uz) - z0 * z0);
         let q = -(beta + disc.max(0.0).sqrt().copysign(beta));
-        let residual = |x: f64, y: f64| {
-            let d = (a2 * y * y + c2 * x * x).sqrt();
-            (h * a2 * y - uz * c2 * x - z0 * d).abs()
-        };
-        let mut best: Option<(f64, f64)> = None;
+        let mut best: Option<(f64, f64, f64)> = None;
         for (x, y) in [(alpha, q), (q, gamma)] {
-            let norm = x.hypot(y);
+            let norm = (x * x + y * y).sqrt();
             // A zero (or NaN) direction is no root.
             if norm.is_nan() || norm <= 0.0 {
                 continue;
             }
             let (x, y) = if y < 0.0 { (-x, -y) } else { (x, y) };
             let (x, y) = (x / norm, y / norm);
-            let psi = y.atan2(x);
-            if psi < lo || psi > hi {
+            // ψ ≤ ψ* (both in [0, π]) where (cos ψ, sin ψ) × (cos ψ*, sin ψ*) ≥ 0, and
+            // (cos ψ*, sin ψ*) = (−u_z, h).
+            let before = x * h + y * uz;
+            if (first && before < 0.0) || (!first && before > 0.0) {
                 continue;
             }
-            let r = residual(x, y);
-            if best.is_none_or(|(_, b)| r < b) {
-                best = Some((psi, r));
+            let d = (a2 * y * y + c2 * x * x).sqrt();
+            let r = (h * a2 * y - uz * c2 * x - z0 * d).abs();
+            if best.is_none_or(|(_, _, b)| r < b) {
+                best = Some((x, y, r));
             }
         }
         // Rounding leaves the residual at some ulps of the terms; the other direction's is 2|z₀|D.
         let tolerance = 1e-9 * (a2 * h + c2 * uz.abs() + self.a * z0.abs());
-        best.filter(|&(_, r)| r <= tolerance).map(|(psi, _)| psi)
+        best.filter(|&(_, _, r)| r <= tolerance)
+            .map(|(x, y, _)| y.atan2(x))
     }
 
     /// Forces and torque on the lens over flat water (world frame); with `record` the vertical
@@ -275,16 +281,15 @@ impl SmoothLens {
         let eval_from_world = world_from_eval.transpose();
         let u = DVec3::new(-h, 0.0, u_body.z);
         // A latitude's lowest point is at z₀ + u_z z − h ρ: unimodal in ψ, least at ψ*.
-        let psi_star = h.atan2(-u.z);
         let psi1 = if z0 + u.z * self.c <= 0.0 {
             0.0
         } else {
-            self.touching(z0, h, u.z, 0.0, psi_star)
+            self.touching(z0, h, u.z, true)
         };
         let psi2 = if z0 - u.z * self.c <= 0.0 {
             PI
         } else {
-            self.touching(z0, h, u.z, psi_star, PI)
+            self.touching(z0, h, u.z, false)
         };
         let cx = Ctx {
             hp,
@@ -917,14 +922,14 @@ mod tests {
                 z0 + uz * m.z - m.rho * h
             };
             let psi_star = h.atan2(-uz);
-            for (lo, hi, end) in [
-                (0.0, psi_star, z0 + uz * 0.006),
-                (psi_star, PI, z0 - uz * 0.006),
+            for (lo, hi, end, first) in [
+                (0.0, psi_star, z0 + uz * 0.006, true),
+                (psi_star, PI, z0 - uz * 0.006, false),
             ] {
                 if end <= 0.0 {
                     continue;
                 }
-                let Some(closed) = smooth.touching_closed(z0, h, uz, lo, hi) else {
+                let Some(closed) = smooth.touching_closed(z0, h, uz, first) else {
                     fallbacks += 1;
                     continue;
                 };
