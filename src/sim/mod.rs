@@ -1150,10 +1150,11 @@ impl Simulation {
         let sign = if forward { 1.0 } else { -1.0 };
         let clear = |s: f64| self.clearance(&self.fly(from, sign * s));
         // Forwards: dry at 0, wet at h. Backwards from a dry state: dry at 0, wet at h.
-        if clear(h) > 0.0 {
+        let c_h = clear(h);
+        if c_h > 0.0 {
             return h;
         }
-        first_wet_by(0.0, h, 60, clear)
+        first_wet_between((0.0, clear(0.0)), (h, c_h), 60, clear)
     }
 }
 
@@ -1226,8 +1227,16 @@ fn first_wet(lo: f64, hi: f64, iterations: u32, wet: impl Fn(f64) -> bool) -> f6
 /// resolution or `iterations` steps; the wet end. Ends that do not bracket fall back to halving
 /// on wet or dry, as [`first_wet`].
 fn first_wet_by(lo: f64, hi: f64, iterations: u32, clear: impl Fn(f64) -> f64) -> f64 {
-    let (mut lo, mut hi) = (lo, hi);
-    let (mut c_lo, mut c_hi) = (clear(lo), clear(hi));
+    first_wet_between((lo, clear(lo)), (hi, clear(hi)), iterations, clear)
+}
+
+/// [`first_wet_by`] from ends whose clearances are known.
+fn first_wet_between(
+    (mut lo, mut c_lo): (f64, f64),
+    (mut hi, mut c_hi): (f64, f64),
+    iterations: u32,
+    clear: impl Fn(f64) -> f64,
+) -> f64 {
     if !(c_lo > 0.0 && c_hi <= 0.0 && c_lo.is_finite() && c_hi.is_finite()) {
         return first_wet(lo, hi, iterations, |t| clear(t) <= 0.0);
     }

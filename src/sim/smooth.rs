@@ -368,7 +368,7 @@ impl SmoothLens {
         } else if a_coef >= b_coef {
             return;
         } else {
-            // tan(β/16) with cos β = A/B, from tan(β/2) = √((B − A)/(B + A)).
+            // tan(β/8) with cos β = A/B, from tan(β/2) = √((B − A)/(B + A)).
             eighth_from_half(((b_coef - a_coef) / (b_coef + a_coef)).sqrt())
         };
         // Where the normal velocity P + Q cos φ + S sin φ changes sign: with t = tan(φ/2),
