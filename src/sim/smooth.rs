@@ -359,17 +359,19 @@ impl SmoothLens {
         // Heights A − B cos φ: wet where cos φ ≥ A/B, |τ| ≤ τ_e.
         let a_coef = cx.z0 + cx.u.z * m.z;
         let b_coef = m.rho * -cx.u.x;
-        let tau_edge = if b_coef <= 0.0 || a_coef <= -b_coef {
+        // The arc's end in t = tan(φ/2) and in τ.
+        let (t_edge, tau_edge) = if b_coef <= 0.0 || a_coef <= -b_coef {
             if a_coef > 0.0 {
                 return;
             }
-            // tan(π/8)
-            std::f64::consts::SQRT_2 - 1.0
+            // The whole latitude: φ = ±π, tan(π/8).
+            (f64::INFINITY, std::f64::consts::SQRT_2 - 1.0)
         } else if a_coef >= b_coef {
             return;
         } else {
             // tan(β/8) with cos β = A/B, from tan(β/2) = √((B − A)/(B + A)).
-            eighth_from_half(((b_coef - a_coef) / (b_coef + a_coef)).sqrt())
+            let t = ((b_coef - a_coef) / (b_coef + a_coef)).sqrt();
+            (t, eighth_from_half(t))
         };
         // Where the normal velocity P + Q cos φ + S sin φ changes sign: with t = tan(φ/2),
         // (P − Q) t² + 2 S t + (P + Q) = 0.
@@ -380,15 +382,17 @@ impl SmoothLens {
         if disc > 0.0 {
             let big = -(s + disc.sqrt().copysign(s));
             if big != 0.0 {
-                let mut inner = [
-                    eighth_from_half(big / (p - q)),
-                    eighth_from_half((p + q) / big),
-                ];
+                let mut inner = [big / (p - q), (p + q) / big];
                 inner.sort_by(f64::total_cmp);
-                for tau in inner {
-                    if tau > -tau_edge && tau < tau_edge {
-                        cuts[n] = tau;
-                        n += 1;
+                // τ is increasing in t, so a cut is inside the arc where its t is; only those
+                // are carried to τ.
+                for t in inner {
+                    if t.abs() < t_edge {
+                        let tau = eighth_from_half(t);
+                        if tau > -tau_edge && tau < tau_edge {
+                            cuts[n] = tau;
+                            n += 1;
+                        }
                     }
                 }
             }
