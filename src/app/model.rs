@@ -1200,7 +1200,12 @@ impl Model {
             } else {
                 0.0
             },
-            outcome: self.sim.outcome().map(outcome_words),
+            // With the instant: after it the clock above runs on with the water's rings.
+            outcome: self
+                .sim
+                .outcome()
+                .zip(self.sim.end_time())
+                .map(|(o, t)| format!("{} at {t:.2} s", outcome_words(o))),
             glide: self.sim.contacts().last().and_then(|c| {
                 let radius = self.sim.stone().shape.half_extent();
                 (contact_kind(c, radius) == ContactKind::Glide).then(|| slide_distance(c))

@@ -562,6 +562,12 @@ impl Simulation {
     pub fn outcome(&self) -> Option<Outcome> {
         self.motion.outcome
     }
+    /// When the outcome was decided (s): the sinking instant, the step that left the lake, the
+    /// time limit; `None` while the run goes on. After it only the water moves on, and
+    /// [`Simulation::time`] with it.
+    pub fn end_time(&self) -> Option<f64> {
+        self.motion.outcome.map(|_| self.motion.end_time)
+    }
     /// Why the run diverged, when its outcome is [`Outcome::Diverged`].
     pub fn diverged_reason(&self) -> Option<&str> {
         self.motion.diverged.as_deref()
@@ -642,11 +648,7 @@ impl Simulation {
 
     /// The run's result so far.
     pub fn summary(&self) -> Summary {
-        let final_time = if self.is_finished() {
-            self.motion.end_time
-        } else {
-            self.motion.time
-        };
+        let final_time = self.end_time().unwrap_or(self.motion.time);
         Summary {
             schema: 1,
             name: self.preset.name.clone(),

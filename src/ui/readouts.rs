@@ -92,7 +92,10 @@ pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
             ui.label("Distance");
             ui.label(big(format!("{:.2} m", r.distance)));
             ui.end_row();
-            ui.label("Time");
+            ui.label("Time").on_hover_text(
+                "Simulated time. After the outcome the stone stays where it ended and the water's \
+                 rings run on (the outcome row says when the throw ended)",
+            );
             ui.monospace(format!("{:.4} s", r.time));
             ui.end_row();
             ui.label("Speed");
