@@ -2153,4 +2153,25 @@ mod tests {
         assert_eq!(s.outcome, Some(Outcome::Sank));
         assert_eq!(s.diverged_reason, None);
     }
+
+    /// The outcome's instant stays put while the clock runs on with the water after it, and it
+    /// is the summary's final time.
+    #[test]
+    fn the_end_time_is_the_outcomes_instant() {
+        let mut p = Preset::default();
+        p.water.enabled = true;
+        let mut sim = Simulation::new(&p).unwrap();
+        while !sim.is_finished() {
+            assert_eq!(sim.end_time(), None);
+            sim.tick();
+        }
+        let end = sim.end_time().unwrap();
+        assert!(end <= sim.time() && end > 0.0, "{end} vs {}", sim.time());
+        for _ in 0..5 {
+            sim.tick();
+        }
+        assert_eq!(sim.end_time(), Some(end));
+        assert!(sim.time() > end + 4.0 * p.physics.dt);
+        assert_eq!(sim.summary().final_time, end);
+    }
 }
