@@ -740,15 +740,15 @@ impl<'a> Ctx<'a> {
         }
     }
 
-    /// The options the explicit-SIMD chunks implement: all but the planing centre and buoyancy on
-    /// wavy water (its depths need the surface's heights).
     /// Any issue-11 option on (the SIMD chunks have a leaner variant without them).
     fn has_extras(&self) -> bool {
         self.opposing || self.rho_g != 0.0 || self.normal_w.is_some() || self.axis.is_some()
     }
 
+    /// The options the explicit-SIMD chunks implement: all but the planing centre (whose wetted
+    /// length needs each face's corners).
     fn is_plain(&self) -> bool {
-        self.dir.is_none() && !(self.rho_g != 0.0 && self.wavy.is_some())
+        self.dir.is_none()
     }
 
     /// A ventilated face receding from the water (V·N ≤ 0) carries nothing, known before it is
@@ -1258,8 +1258,8 @@ fn wet_faces<const LAW: u8, const ROT: bool>(
     wet_faces_portable::<LAW, ROT>(c, faces, range, list, acc, loads)
 }
 
-/// Explicit AVX2 for the common cases (every option but the planing centre and buoyancy on wavy
-/// water): the operations of [`lane_law`] and [`contribute`] in the same order, four faces per
+/// Explicit AVX2 for every option but the planing centre (buoyancy on wavy water reads each
+/// face's depth through the scalar expression): the operations of [`lane_law`] and [`contribute`] in the same order, four faces per
 /// register.
 #[cfg(target_arch = "x86_64")]
 mod simd {
@@ -1376,6 +1376,8 @@ mod simd {
                 _mm256_mul_pd(upz, z),
             )
         };
+        // Buoyancy on wavy water: each face's depth below the surface over its own centroid.
+        let wavy_depth = EXTRA && c.rho_g != 0.0 && c.wavy.is_some();
         let mut i = start;
         while i < end {
             // SAFETY: i + 4 ≤ end ≤ len.
@@ -1405,9 +1407,25 @@ mod simd {
                 vn,
                 vt_len,
             );
-            let zc = |g: [__m256d; 3]| _mm256_add_pd(pos_z, dot_up(g[0], g[1], g[2]));
-            let (p, hydrostatic) = normal_load::<EXTRA>(c, pressure, vn, area, || zc([gx, gy, gz]));
             let neg = |x: __m256d| _mm256_xor_pd(x, sign_bit);
+            let depth = || {
+                if wavy_depth {
+                    // The surface's heights are read one face at a time, by the scalar lanes'
+                    // own expression, so the depths are theirs bit for bit.
+                    let col = |x: __m256d| {
+                        let mut a = [0.0; 4];
+                        // SAFETY: AVX2 is enabled here; `a` holds four f64.
+                        unsafe { _mm256_storeu_pd(a.as_mut_ptr(), x) };
+                        a
+                    };
+                    let (x, y, z) = (col(gx), col(gy), col(gz));
+                    let d = [0, 1, 2, 3].map(|l| c.depth([x[l], y[l], z[l]]));
+                    rd(&d)
+                } else {
+                    neg(_mm256_add_pd(pos_z, dot_up(gx, gy, gz)))
+                }
+            };
+            let (p, hydrostatic) = normal_load::<EXTRA>(c, pressure, vn, area, depth);
             let mut fx = _mm256_mul_pd(neg(nx), p);
             let mut fy = _mm256_mul_pd(neg(ny), p);
             let mut fz = _mm256_mul_pd(neg(nz), p);
@@ -1531,15 +1549,15 @@ mod simd {
     }
 
     /// sign · pressure + hydrostatic, and hydrostatic, for four faces: the sign of v_n when the
-    /// pressure opposes the motion, else +1; ρ g max(0, depth) S with buoyancy (`zc`: the wetted
-    /// centroids' heights).
+    /// pressure opposes the motion, else +1; ρ g max(0, depth) S with buoyancy (`depth`: the wetted
+    /// centroids' depths below the surface).
     #[target_feature(enable = "avx2")]
     fn normal_load<const EXTRA: bool>(
         c: &Ctx,
         pressure: __m256d,
         vn: __m256d,
         area: __m256d,
-        zc: impl Fn() -> __m256d,
+        depth: impl Fn() -> __m256d,
     ) -> (__m256d, __m256d) {
         let zero = _mm256_setzero_pd();
         let set = |x: f64| _mm256_set1_pd(x);
@@ -1552,9 +1570,8 @@ mod simd {
             _mm256_mul_pd(set(1.0), pressure)
         };
         let hydrostatic = if EXTRA && c.rho_g != 0.0 {
-            let depth = _mm256_xor_pd(zc(), set(-0.0));
             _mm256_mul_pd(
-                _mm256_mul_pd(set(c.rho_g), _mm256_max_pd(depth, zero)),
+                _mm256_mul_pd(set(c.rho_g), _mm256_max_pd(depth(), zero)),
                 area,
             )
         } else {
@@ -2061,9 +2078,20 @@ mod tests {
         let faces = &stone.kernel().faces;
         let end = faces.len() / LANES * LANES;
         let mut seed = 12345u64;
+        // Wavy water: buoyancy reads each face's depth below a surface that is not a plane.
+        struct Ripple;
+        impl Surface for Ripple {
+            fn height(&self, x: f64, y: f64) -> f64 {
+                0.003 * (40.0 * x + 25.0 * y + 0.3).sin()
+            }
+            fn max_height(&self) -> f64 {
+                0.003
+            }
+        }
+        let flat = super::super::hydro::FlatSurface;
         for law in ForceLaw::ALL {
             for (ventilated, spin, extras) in (0..64u32).map(|k| (k & 1 != 0, k & 2 != 0, k >> 2)) {
-                {
+                for surface in [&flat as &dyn Surface, &Ripple] {
                     let (lift, friction) = law.default_coefficients();
                     let hp = HydroParams {
                         law,
@@ -2091,7 +2119,7 @@ mod tests {
                     let call = Call {
                         hp: &hp,
                         pose: &pose,
-                        surface: &super::super::hydro::FlatSurface,
+                        surface,
                         record: false,
                     };
                     let c = Ctx::new(&stone, &hp, &pose, None, &call);
@@ -2143,7 +2171,8 @@ mod tests {
                     assert_eq!(
                         bits(&a),
                         bits(&b),
-                        "{law:?} vent {ventilated} spin {spin} options {extras}"
+                        "{law:?} vent {ventilated} spin {spin} options {extras} flat {}",
+                        surface.is_flat()
                     );
                     assert!(a.area.iter().sum::<f64>() > 0.0);
                 }

@@ -80,14 +80,15 @@ impl<'a> PatchReader<'a> {
     /// [`WaterGrid::surface_height`] at world (x, y).
     #[inline]
     pub fn height(&self, x: f64, y: f64) -> f64 {
-        if !(x >= self.lo[0] && y >= self.lo[1] && x < self.hi[0] && y < self.hi[1]) {
-            return 0.0;
-        }
         let fx = (x - self.lo[0]) / self.cell - 0.5;
         let fy = (y - self.lo[1]) / self.cell - 0.5;
-        // Inside the patch f ≥ 0 and f < n − 1, so `bilinear`'s clamps change nothing, its floor
-        // is the cast and i0 + 1 is the next column.
+        // Inside the patch f ≥ 0 and f < n − 1, so the point is over the grid, `bilinear`'s
+        // clamps change nothing, its floor is the cast and i0 + 1 is the next column. Any other
+        // point (off the grid, NaN) is read as the grid reads it.
         if !(fx >= self.first[0] && fx < self.last[0] && fy >= self.first[1] && fy < self.last[1]) {
+            if !(x >= self.lo[0] && y >= self.lo[1] && x < self.hi[0] && y < self.hi[1]) {
+                return 0.0;
+            }
             return self.grid.surface_height_in(Some(self.patch), x, y);
         }
         // 0 ≤ f < n: the signed conversion is one instruction and the same floor.
