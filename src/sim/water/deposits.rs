@@ -268,7 +268,7 @@ struct Overlaps {
 }
 
 impl Overlaps {
-    const INLINE: usize = 8;
+    const INLINE: usize = 4;
 
     fn weights(&self) -> &[f64] {
         if self.spill.is_empty() {
