@@ -2,7 +2,9 @@
 //! reference (`hydro::evaluate_reference`) on the default lens at 32, 64 and 96 segments, in four
 //! poses — grazing (lowest vertex 1 % of the vertical extent under), mid-contact (10 %), deep
 //! (wholly under) and free rotation (mid-contact, ω ≠ 0, so the body-frame ring path) — plus
-//! `lowest_clearance` and `underside_submerged` against their references. Criterion measures each
+//! `lowest_clearance` and `underside_submerged` against their references, and the free pose on
+//! wavy water (`wavy`: a ripple of the near field's scale, with the shipped default's physics,
+//! buoyancy on every wetted face included, so the depths read the surface). Criterion measures each
 //! side by side; a summary then prints, from its own timings (median of repeats), the ratios.
 //!
 //! Run: `cargo bench --bench force -- --quick`.
@@ -22,6 +24,7 @@ use glam::{DQuat, DVec3};
 use stoneskip::sim::hydro::{
     evaluate, evaluate_reference, lowest_clearance, lowest_clearance_reference,
     underside_submerged, underside_submerged_reference, FlatSurface, HydroParams, Pose, Scratch,
+    Surface,
 };
 use stoneskip::sim::params::{Integrator, Physics, Preset, Quadrature, Shape, StoneParams};
 use stoneskip::sim::stone::Stone;
@@ -29,6 +32,43 @@ use stoneskip::sim::{simulate, Summary};
 use stoneskip::study::throws;
 
 const POSES: [&str; 4] = ["grazing", "mid", "deep", "free"];
+
+/// The free pose on wavy water (the meshes only: the smooth quadrature refuses wavy contact).
+const WAVY: &str = "wavy";
+
+/// Wavy water at the near field's scale: crests 1 cm high, 8 cm apart along x and 11 cm along y.
+struct Ripple;
+
+impl Surface for Ripple {
+    fn height(&self, x: f64, y: f64) -> f64 {
+        0.01 * (std::f64::consts::TAU * x / 0.08 + 0.7).sin()
+            * (std::f64::consts::TAU * y / 0.11).cos()
+    }
+    fn max_height(&self) -> f64 {
+        0.01
+    }
+}
+
+/// The force constants of a pose: the shipped default's physics on wavy water, else the
+/// paper's defaults.
+fn params(name: &str) -> HydroParams {
+    if name == WAVY {
+        let p = stoneskip::preset::load(std::path::Path::new("assets/presets/default.ron"))
+            .expect("shipped preset");
+        HydroParams::from_physics(&p.physics)
+    } else {
+        HydroParams::from_physics(&Physics::default())
+    }
+}
+
+/// The surface of a pose.
+fn surface(name: &str) -> &'static dyn Surface {
+    if name == WAVY {
+        &Ripple
+    } else {
+        &FlatSurface
+    }
+}
 
 fn lens(segments: u32) -> Stone {
     lens_with(segments, Quadrature::Faces)
@@ -55,7 +95,7 @@ const SMOOTH: (u32, u32) = (12, 2);
 /// The default throw's attitude (tilt 20°) and velocity, at a depth of `fraction` of the stone's
 /// vertical extent; "free" tilts and banks it and spins it.
 fn pose(stone: &Stone, name: &str) -> Pose {
-    let free = name == "free";
+    let free = name == "free" || name == WAVY;
     let orientation = if free {
         DQuat::from_rotation_x(0.15) * DQuat::from_rotation_y(-0.4)
     } else {
@@ -86,29 +126,35 @@ fn pose(stone: &Stone, name: &str) -> Pose {
     }
 }
 
-/// Runs `path` once on a prepared case (a persistent scratch, as the simulation keeps one).
-fn run(path: &str, stone: &Stone, hp: &HydroParams, p: &Pose, s: &mut Scratch) -> f64 {
-    let flat = FlatSurface;
+/// Runs `path` once on a prepared case over `w` (a persistent scratch, as the simulation keeps one).
+fn run(
+    path: &str,
+    stone: &Stone,
+    hp: &HydroParams,
+    p: &Pose,
+    w: &dyn Surface,
+    s: &mut Scratch,
+) -> f64 {
     match path {
-        "fast" => evaluate(stone, hp, p, &flat, s, false).force.z,
-        "reference" => evaluate_reference(stone, hp, p, &flat, s, false).force.z,
-        "clear" => lowest_clearance(stone, p.position, p.orientation, &flat),
-        "clear_ref" => lowest_clearance_reference(stone, p.position, p.orientation, &flat),
-        "sink" => underside_submerged(stone, p.position, p.orientation, &flat) as u8 as f64,
-        _ => underside_submerged_reference(stone, p.position, p.orientation, &flat) as u8 as f64,
+        "fast" => evaluate(stone, hp, p, w, s, false).force.z,
+        "reference" => evaluate_reference(stone, hp, p, w, s, false).force.z,
+        "clear" => lowest_clearance(stone, p.position, p.orientation, w),
+        "clear_ref" => lowest_clearance_reference(stone, p.position, p.orientation, w),
+        "sink" => underside_submerged(stone, p.position, p.orientation, w) as u8 as f64,
+        _ => underside_submerged_reference(stone, p.position, p.orientation, w) as u8 as f64,
     }
 }
 
 /// Median wall time of one call (ns) over repeats of a timed batch.
-fn median_ns(path: &str, stone: &Stone, hp: &HydroParams, p: &Pose) -> f64 {
+fn median_ns(path: &str, stone: &Stone, hp: &HydroParams, p: &Pose, w: &dyn Surface) -> f64 {
     let mut s = Scratch::default();
-    run(path, stone, hp, p, &mut s);
+    run(path, stone, hp, p, w, &mut s);
     let batch = 200;
     let mut times: Vec<f64> = (0..31)
         .map(|_| {
             let t = Instant::now();
             for _ in 0..batch {
-                black_box(run(path, stone, hp, black_box(p), &mut s));
+                black_box(run(path, stone, hp, black_box(p), w, &mut s));
             }
             t.elapsed().as_secs_f64() * 1e9 / batch as f64
         })
@@ -124,12 +170,12 @@ fn count_mode(spec: &str) {
         std::process::exit(2);
     };
     let stone = lens(segments.parse().expect("segments"));
-    let hp = HydroParams::from_physics(&Physics::default());
+    let (hp, w) = (params(pose_name), surface(pose_name));
     let p = pose(&stone, pose_name);
     let mut s = Scratch::default();
-    let mut acc = run(path, &stone, &hp, &p, &mut s);
+    let mut acc = run(path, &stone, &hp, &p, w, &mut s);
     for _ in 0..reps.parse::<u32>().expect("reps") {
-        acc += run(path, &stone, &hp, black_box(&p), &mut s);
+        acc += run(path, &stone, &hp, black_box(&p), w, &mut s);
     }
     println!("{acc}");
 }
@@ -244,17 +290,19 @@ fn main() {
         mesh_mode();
         return;
     }
-    let hp = HydroParams::from_physics(&Physics::default());
+    let hp = params("mid");
+    let flat = &FlatSurface;
     let mut c = Criterion::default().configure_from_args();
     let cases: Vec<(u32, Stone)> = [32, 64, 96].map(|n| (n, lens(n))).into();
+    let meshes_poses = || POSES.into_iter().chain([WAVY]);
     for (n, stone) in &cases {
         let mut group = c.benchmark_group(format!("force/{n}"));
-        for name in POSES {
-            let p = pose(stone, name);
+        for name in meshes_poses() {
+            let (p, hp, w) = (pose(stone, name), params(name), surface(name));
             for path in ["fast", "reference"] {
                 let mut s = Scratch::default();
                 group.bench_function(format!("{name}/{path}"), |b| {
-                    b.iter(|| run(path, stone, &hp, black_box(&p), &mut s))
+                    b.iter(|| run(path, stone, &hp, black_box(&p), w, &mut s))
                 });
             }
         }
@@ -262,7 +310,7 @@ fn main() {
         for path in ["clear", "clear_ref", "sink", "sink_ref"] {
             let mut s = Scratch::default();
             group.bench_function(format!("mid/{path}"), |b| {
-                b.iter(|| run(path, stone, &hp, black_box(&p), &mut s))
+                b.iter(|| run(path, stone, &hp, black_box(&p), flat, &mut s))
             });
         }
         group.finish();
@@ -274,16 +322,16 @@ fn main() {
         let p = pose(&smooth, name);
         let mut s = Scratch::default();
         group.bench_function(name, |b| {
-            b.iter(|| run("fast", &smooth, &hp, black_box(&p), &mut s))
+            b.iter(|| run("fast", &smooth, &hp, black_box(&p), flat, &mut s))
         });
     }
     group.finish();
     println!("\nsummary (median ns per call; reference / fast):");
     for (n, stone) in &cases {
-        for name in POSES {
-            let p = pose(stone, name);
-            let fast = median_ns("fast", stone, &hp, &p);
-            let reference = median_ns("reference", stone, &hp, &p);
+        for name in meshes_poses() {
+            let (p, hp, w) = (pose(stone, name), params(name), surface(name));
+            let fast = median_ns("fast", stone, &hp, &p, w);
+            let reference = median_ns("reference", stone, &hp, &p, w);
             println!(
                 "  {n:>3} segments {name:>8}: fast {fast:>9.0} ns, reference {reference:>9.0} ns, ratio {:>6.1}x",
                 reference / fast
@@ -291,8 +339,8 @@ fn main() {
         }
         let p = pose(stone, "mid");
         for (fast, reference) in [("clear", "clear_ref"), ("sink", "sink_ref")] {
-            let f = median_ns(fast, stone, &hp, &p);
-            let r = median_ns(reference, stone, &hp, &p);
+            let f = median_ns(fast, stone, &hp, &p, flat);
+            let r = median_ns(reference, stone, &hp, &p, flat);
             println!(
                 "  {n:>3} segments {fast:>8}: fast {f:>9.0} ns, reference {r:>9.0} ns, ratio {:>6.1}x",
                 r / f
@@ -301,10 +349,13 @@ fn main() {
     }
     for name in POSES {
         let p = pose(&smooth, name);
-        let sm = median_ns("fast", &smooth, &hp, &p);
+        let sm = median_ns("fast", &smooth, &hp, &p, flat);
         let faces: Vec<String> = cases
             .iter()
-            .map(|(n, stone)| format!("{n} faces {:.1}x", median_ns("fast", stone, &hp, &p) / sm))
+            .map(|(n, stone)| {
+                let f = median_ns("fast", stone, &hp, &p, flat);
+                format!("{n} faces {:.1}x", f / sm)
+            })
             .collect();
         println!(
             "  smooth {meridian}x{around} {name:>8}: {sm:>9.0} ns; the meshes' fast path over it: {}",
