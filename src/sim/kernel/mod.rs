@@ -1259,8 +1259,8 @@ fn wet_faces<const LAW: u8, const ROT: bool>(
 }
 
 /// Explicit AVX2 for every option but the planing centre (buoyancy on wavy water reads each
-/// face's depth through the scalar expression): the operations of [`lane_law`] and [`contribute`] in the same order, four faces per
-/// register.
+/// face's depth through the scalar expression): the operations of [`lane_law`] and [`contribute`]
+/// in the same order, four faces per register.
 #[cfg(target_arch = "x86_64")]
 mod simd {
     use super::{Ctx, FaceLoad, FaceSoa, LaneAcc, BOCQUET, PAPER};
