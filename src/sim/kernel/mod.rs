@@ -1376,8 +1376,6 @@ mod simd {
                 _mm256_mul_pd(upz, z),
             )
         };
-        // Buoyancy on wavy water: each face's depth below the surface over its own centroid.
-        let wavy_depth = EXTRA && c.rho_g != 0.0 && c.wavy.is_some();
         let mut i = start;
         while i < end {
             // SAFETY: i + 4 ≤ end ≤ len.
@@ -1408,23 +1406,8 @@ mod simd {
                 vt_len,
             );
             let neg = |x: __m256d| _mm256_xor_pd(x, sign_bit);
-            let depth = || {
-                if wavy_depth {
-                    // The surface's heights are read one face at a time, by the scalar lanes'
-                    // own expression, so the depths are theirs bit for bit.
-                    let col = |x: __m256d| {
-                        let mut a = [0.0; 4];
-                        // SAFETY: AVX2 is enabled here; `a` holds four f64.
-                        unsafe { _mm256_storeu_pd(a.as_mut_ptr(), x) };
-                        a
-                    };
-                    let (x, y, z) = (col(gx), col(gy), col(gz));
-                    let d = [0, 1, 2, 3].map(|l| c.depth([x[l], y[l], z[l]]));
-                    rd(&d)
-                } else {
-                    neg(_mm256_add_pd(pos_z, dot_up(gx, gy, gz)))
-                }
-            };
+            let wavy = wavy_depths::<EXTRA>(c, [gx, gy, gz]);
+            let depth = || wavy.unwrap_or_else(|| neg(_mm256_add_pd(pos_z, dot_up(gx, gy, gz))));
             let (p, hydrostatic) = normal_load::<EXTRA>(c, pressure, vn, area, depth);
             let mut fx = _mm256_mul_pd(neg(nx), p);
             let mut fy = _mm256_mul_pd(neg(ny), p);
@@ -1484,6 +1467,26 @@ mod simd {
         wr(&mut la.area, aa);
         wr(&mut la.axial, ax);
     }
+    /// With buoyancy on wavy water, four faces' depths below the surface over their centroids `g`
+    /// (`None` otherwise): the surface is read one face at a time, by the scalar lanes' own
+    /// expression ([`Ctx::depth`]), so the depths are theirs bit for bit.
+    #[target_feature(enable = "avx2")]
+    fn wavy_depths<const EXTRA: bool>(c: &Ctx, g: [__m256d; 3]) -> Option<__m256d> {
+        if !(EXTRA && c.rho_g != 0.0 && c.wavy.is_some()) {
+            return None;
+        }
+        let lanes = |x: __m256d| {
+            let mut a = [0.0; 4];
+            // SAFETY: AVX2 is enabled here; `a` holds four f64.
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), x) };
+            a
+        };
+        let [x, y, z] = g.map(lanes);
+        let d = [0, 1, 2, 3].map(|l| c.depth([x[l], y[l], z[l]]));
+        // SAFETY: `d` holds four f64.
+        Some(unsafe { _mm256_loadu_pd(d.as_ptr()) })
+    }
+
     /// `WettedFaces`: where `receding`, a face keeps its hydrostatic load −N h alone.
     #[target_feature(enable = "avx2")]
     fn hydrostatic_when(
