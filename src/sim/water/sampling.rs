@@ -39,9 +39,8 @@ impl EtaPatch {
 pub struct PatchReader<'a> {
     grid: &'a WaterGrid,
     patch: &'a EtaPatch,
-    /// The grid's extent, as [`WaterGrid::contains`] computes it.
+    /// The grid's lower corner (its origin).
     lo: [f64; 2],
-    hi: [f64; 2],
     cell: f64,
     /// The fractional column coordinates f (as [`WaterGrid::bilinear`] forms them) whose four
     /// columns lie in the patch without clamping: f ∈ [first, last).
@@ -70,7 +69,6 @@ impl<'a> PatchReader<'a> {
             grid,
             patch,
             lo: [ox, oy],
-            hi: [ox + grid.cfg.nx as f64 * l, oy + grid.cfg.ny as f64 * l],
             cell: l,
             first,
             last,
@@ -84,11 +82,8 @@ impl<'a> PatchReader<'a> {
         let fy = (y - self.lo[1]) / self.cell - 0.5;
         // Inside the patch f ≥ 0 and f < n − 1, so the point is over the grid, `bilinear`'s
         // clamps change nothing, its floor is the cast and i0 + 1 is the next column. Any other
-        // point (off the grid, NaN) is read as the grid reads it.
+        // point (off the grid: 0, NaN) is read as the grid reads it.
         if !(fx >= self.first[0] && fx < self.last[0] && fy >= self.first[1] && fy < self.last[1]) {
-            if !(x >= self.lo[0] && y >= self.lo[1] && x < self.hi[0] && y < self.hi[1]) {
-                return 0.0;
-            }
             return self.grid.surface_height_in(Some(self.patch), x, y);
         }
         // 0 ≤ f < n: the signed conversion is one instruction and the same floor.
