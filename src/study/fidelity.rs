@@ -17,6 +17,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec3;
 
+use crate::sim::integrate::BodyState;
 use crate::sim::metrics::{hovercraft, tail_hops, throw_shape, TailHop, ThrowShape};
 use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, simulate, Simulation, Summary};
@@ -374,6 +375,10 @@ pub struct AxisTurn {
     pub inclination_change_deg: f64,
     /// |Δv_z| of the contact (m/s).
     pub dvz: f64,
+    /// The contact's lever: the horizontal part of the water's angular impulse about the centre
+    /// of mass over its vertical impulse m (Δv_z + g τ), in mm. In contact only the water acts
+    /// on the stone besides gravity (the air acts in flight), so ΔL is the water's alone.
+    pub lever_mm: f64,
 }
 
 /// Axis turn per contact for the first `n` contacts of `p`.
@@ -381,25 +386,30 @@ fn axis_turns(p: &Preset, n: usize) -> Result<Vec<AxisTurn>, StudyError> {
     check_cancel()?;
     let mut sim = Simulation::new(p)?;
     let mut turns = Vec::new();
-    let mut entry: Option<(DVec3, f64)> = None;
+    let mut entry: Option<(f64, BodyState)> = None;
     let mut was = sim.in_contact();
     let rev = p.launch.spin / TAU;
+    let (m, g) = (p.stone.mass, p.physics.gravity);
     while !sim.is_finished() && turns.len() < n {
         let mut events = Vec::new();
-        sim.tick_with(&mut |s| events.push((s.in_contact, s.state)));
-        for (wet, st) in events {
-            let a = st.orientation * DVec3::Z;
+        sim.tick_with(&mut |s| events.push((s.in_contact, s.time, s.state)));
+        for (wet, t, st) in events {
             match (was, wet) {
-                (false, true) => entry = Some((a, st.velocity.z)),
+                (false, true) => entry = Some((t, st)),
                 (true, false) => {
-                    if let Some((a0, vz0)) = entry.take() {
+                    if let Some((t0, s0)) = entry.take() {
+                        let (a0, a) = (s0.orientation * DVec3::Z, st.orientation * DVec3::Z);
                         let inc = |v: DVec3| v.z.clamp(-1.0, 1.0).acos().to_degrees();
+                        let dvz = st.velocity.z - s0.velocity.z;
+                        let dl = st.angular_momentum - s0.angular_momentum;
+                        let lift_impulse = m * (dvz + g * (t - t0));
                         turns.push(AxisTurn {
                             rev_per_s: rev,
                             index: turns.len() + 1,
                             turn_deg: a0.dot(a).clamp(-1.0, 1.0).acos().to_degrees(),
                             inclination_change_deg: inc(a) - inc(a0),
-                            dvz: st.velocity.z - vz0,
+                            dvz,
+                            lever_mm: 1e3 * dl.truncate().length() / lift_impulse,
                         });
                     }
                 }
@@ -670,8 +680,9 @@ fn presets(quick: bool) -> Result<Vec<PresetCheck>, StudyError> {
 pub struct Fidelity {
     pub bounces: Vec<Bounce>,
     pub paper: PaperEnergy,
-    /// The default throw's launch tilt (°) and its locked run.
+    /// The default throw's launch tilt (°), its stone's radius (m) and its locked run.
     pub launch_tilt: f64,
+    pub radius: f64,
     pub locked: ThrowShape,
     pub spin: Vec<SpinRun>,
     /// (launch tilt °, its spin sweep); the locked counts are in `locked_tilts`.
@@ -703,7 +714,11 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let spin_tilts = spin_tilts(q)?;
     ctx.progress("locked tilts");
     let locked_tilts = locked_tilts(q)?;
-    let launch_tilt = shipped_for("default", q)?.launch.attitude.tilt_deg;
+    let default = shipped_for("default", q)?;
+    let (launch_tilt, radius) = (
+        default.launch.attitude.tilt_deg,
+        default.stone.shape.half_extent(),
+    );
     let locked = locked_at(&locked_tilts, launch_tilt)?;
     ctx.progress("precession per contact");
     let turns = precession(q)?;
@@ -727,6 +742,7 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         bounces,
         paper,
         launch_tilt,
+        radius,
         locked,
         spin,
         spin_tilts,
@@ -904,6 +920,7 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         "turn_deg",
         "inclination_change_deg",
         "dvz",
+        "lever_mm",
     ]);
     for t in &f.turns {
         c.push(vec![
@@ -912,6 +929,7 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
             t.turn_deg.into(),
             t.inclination_change_deg.into(),
             t.dvz.into(),
+            t.lever_mm.into(),
         ]);
     }
     ctx.write_csv("precession_per_contact.csv", &c)?;
@@ -1306,10 +1324,17 @@ fn quoted(f: &Fidelity) -> Quoted {
         .filter(|t| t.index == 1)
         .map(|t| t.turn_deg * t.rev_per_s)
         .collect();
+    let first_levers: Vec<f64> = f
+        .turns
+        .iter()
+        .filter(|t| t.index == 1)
+        .map(|t| t.lever_mm)
+        .collect();
+    let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
     Quoted {
         launch_tilt: f.launch_tilt,
-        first_turn_times_spin: (!firsts.is_empty())
-            .then(|| firsts.iter().sum::<f64>() / firsts.len() as f64),
+        first_turn_times_spin: mean(&firsts),
+        first_lever: mean(&first_levers).map(|mm| (mm, 1e3 * f.radius)),
         shallow_locked: f.locked_tilts.first().map(|l| (l.tilt_deg, l.shape.skips)),
         launch_locked: f.locked.skips,
         tilt_check: f
@@ -1619,7 +1644,9 @@ fn spin_section(f: &Fidelity) -> String {
         "\n### Precession per contact (flat water)\n\nThe angle the stone's axis turns through \
          each contact, and the change of its inclination to the vertical. A torque impulse J·ℓ turns \
          the axis by J·ℓ/(I₃ω): the turn × spin should be the same at every spin for a given \
-         contact.\n\n",
+         contact. The lever ℓ is measured: the horizontal part of the stone's change of angular \
+         momentum over the contact (the water's torque impulse about the centre of mass) over the \
+         water's vertical impulse m (Δv_z + g τ).\n\n",
     );
     let rows: Vec<Vec<String>> = f
         .turns
@@ -1632,6 +1659,7 @@ fn spin_section(f: &Fidelity) -> String {
                 sig(t.inclination_change_deg, 3),
                 sig(t.turn_deg * t.rev_per_s, 3),
                 sig(t.dvz, 3),
+                sig(t.lever_mm, 3),
             ]
         })
         .collect();
@@ -1643,6 +1671,7 @@ fn spin_section(f: &Fidelity) -> String {
             "inclination change (°)",
             "turn × spin",
             "Δv_z (m/s)",
+            "lever ℓ (mm)",
         ],
         &rows,
     ));

@@ -10,9 +10,12 @@
 //! air and the friction off (the gyroscope alone, whose limit is exactly the locked throw), each
 //! against its own locked throw from the same launch heights. If a model's peak count beats its
 //! limit, the count must come down from that peak as the spin rises: criterion 2 cannot hold for
-//! that launch in that model. Compute, then results, then the report.
+//! that launch in that model. The lever of the contact's torque is swept too: the pressure at
+//! Savitsky (1964)'s planing centre (0.75 of the wetted length ahead of its trailing edge) and at
+//! the spray root (1), which change the torque only, so the locked throws must not move.
+//! Compute, then results, then the report.
 
-use crate::sim::params::{Preset, Rotation};
+use crate::sim::params::{Preset, PressureCentre, Rotation};
 
 use super::fidelity::{
     ensemble_offsets, lower_median, par_map, shape, shipped_for, spin_drops, spin_revs, spin_runs,
@@ -24,6 +27,10 @@ use super::{Ctx, StudyError};
 /// The label of the model with neither the air nor friction.
 const GYROSCOPE: &str = "gyroscope alone (air and friction off)";
 
+/// Savitsky (1964)'s planing centre of pressure: 0.75 of the wetted length ahead of its trailing
+/// edge at high speed, the thin-wing quarter chord from the spray root.
+const SAVITSKY: f64 = 0.75;
+
 /// One model of the comparison: its spin sweep and its locked throw.
 #[derive(Debug, Clone)]
 pub struct Variant {
@@ -33,6 +40,8 @@ pub struct Variant {
     /// Whether its spin is free of every effect that grows with spin (no friction), so that its
     /// infinite-spin limit is its locked throw.
     pub pure_gyroscope_limit: bool,
+    /// Where the contact's pressure acts (only the torque depends on it).
+    pub centre: PressureCentre,
     pub sweep: Vec<SpinRun>,
     /// Skips of the locked throw from each launch height, sorted.
     pub locked: Vec<usize>,
@@ -50,7 +59,7 @@ impl Variant {
     }
 }
 
-/// What §8 measured: shipped, air off, friction off, neither.
+/// What §8 measured: shipped, air off, friction off, neither, and two pressure centres.
 #[derive(Debug, Clone)]
 pub struct LimitStudy {
     pub variants: Vec<Variant>,
@@ -63,6 +72,8 @@ pub struct Quoted {
     pub launch_tilt: f64,
     /// The first contact's axis turn × spin (° rev/s), the mean over §2's precession runs.
     pub first_turn_times_spin: Option<f64>,
+    /// The first contact's lever (mm), the mean over §2's precession runs, and the radius (mm).
+    pub first_lever: Option<(f64, f64)>,
     /// The shallowest locked tilt of §2 (°) and its skips, and the locked skips at the launch tilt.
     pub shallow_locked: Option<(f64, usize)>,
     pub launch_locked: usize,
@@ -70,9 +81,24 @@ pub struct Quoted {
     pub tilt_check: Option<(f64, usize)>,
 }
 
-/// The default throw with the air and the friction on or off.
-fn model(quick: bool, air: bool, friction: bool) -> Result<Preset, StudyError> {
+/// One model of §8: its label, the air, the friction, where the pressure acts.
+struct Spec {
+    label: &'static str,
+    air: bool,
+    friction: bool,
+    centre: PressureCentre,
+}
+
+/// The default throw with the air and the friction on or off and its pressure centre.
+fn model(quick: bool, spec: &Spec) -> Result<Preset, StudyError> {
+    let Spec {
+        air,
+        friction,
+        centre,
+        ..
+    } = *spec;
     let mut p = shipped_for("default", quick)?;
+    p.physics.pressure_centre = centre;
     if !air {
         p.physics.air = None;
     }
@@ -102,23 +128,49 @@ pub fn compute(
 ) -> Result<LimitStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the infinite-spin limit");
+    let spec = |label, air, friction, centre| Spec {
+        label,
+        air,
+        friction,
+        centre,
+    };
+    let faces = PressureCentre::Faces;
     let specs = [
-        ("shipped", true, true, Some(shipped)),
-        ("air off", false, true, Some(air_off)),
-        ("friction off", true, false, None),
-        (GYROSCOPE, false, false, None),
+        (spec("shipped", true, true, faces), Some(shipped)),
+        (spec("air off", false, true, faces), Some(air_off)),
+        (spec("friction off", true, false, faces), None),
+        (spec(GYROSCOPE, false, false, faces), None),
+        (
+            spec(
+                "Savitsky's centre (0.75)",
+                true,
+                true,
+                PressureCentre::Planing(SAVITSKY),
+            ),
+            None,
+        ),
+        (
+            spec(
+                "at the spray root (1)",
+                true,
+                true,
+                PressureCentre::Planing(1.0),
+            ),
+            None,
+        ),
     ];
     let mut variants = Vec::new();
-    for (label, air, friction, known) in specs {
-        let p = model(q, air, friction)?;
+    for (spec, known) in specs {
+        let p = model(q, &spec)?;
         let sweep = match known {
             Some(s) => s.to_vec(),
             None => spin_runs(&p, &spin_revs(q), &ensemble_offsets(q))?,
         };
         variants.push(Variant {
-            label,
-            air,
-            pure_gyroscope_limit: !friction,
+            label: spec.label,
+            air: spec.air,
+            pure_gyroscope_limit: !spec.friction,
+            centre: spec.centre,
             sweep,
             locked: locked_ensemble(&p, q)?,
         });
@@ -177,7 +229,52 @@ pub fn section(l: &LimitStudy, quoted: &Quoted) -> String {
     for v in &l.variants {
         s.push_str(&variant_words(v));
     }
+    s.push_str(&centre_words(l));
     s.push_str(&mechanism_words(l, quoted));
+    s
+}
+
+/// What the pressure centre changes: the torque, so the free sweep, but not the locked throw.
+fn centre_words(l: &LimitStudy) -> String {
+    let with_air_and_friction: Vec<&Variant> = l
+        .variants
+        .iter()
+        .filter(|v| v.air && !v.pure_gyroscope_limit)
+        .collect();
+    let centres: Vec<String> = with_air_and_friction
+        .iter()
+        .map(|v| {
+            let at = match v.centre {
+                PressureCentre::Faces => "each face's centroid".to_owned(),
+                PressureCentre::Planing(f) => format!("{} of the wetted length", sig(f, 2)),
+            };
+            let drops = spin_drops(&v.sweep);
+            format!(
+                "{at}: {drops} drop{} of the median, locked {}",
+                if drops == 1 { "" } else { "s" },
+                v.locked_median()
+            )
+        })
+        .collect();
+    if centres.len() < 2 {
+        return String::new();
+    }
+    let locked_same = with_air_and_friction
+        .windows(2)
+        .all(|w| w[0].locked == w[1].locked);
+    let mut s = format!(
+        "\n\nWhere the contact's pressure acts sets the lever of its torque, and so how far a \
+         contact turns the axis at a given spin (issue 11 names the planing centre of pressure as \
+         a candidate). With the air and the friction on, the pressure at {}.",
+        centres.join("; at ")
+    );
+    if locked_same {
+        s.push_str(
+            " The locked throws agree skip for skip: a held stone feels no torque, so the \
+             centre reshapes the free sweep but cannot move the held-attitude count that the \
+             gyroscope tends to as the spin rises.",
+        );
+    }
     s
 }
 
@@ -287,6 +384,14 @@ fn mechanism_words(l: &LimitStudy, quoted: &Quoted) -> String {
             sig(k, 2)
         ));
     }
+    if let Some((lever, radius)) = quoted.first_lever {
+        s.push_str(&format!(
+            " Its lever about the centre of mass is {} mm (the radius is {} mm): the wetted \
+             patch is at the trailing edge.",
+            sig(lever, 2),
+            sig(radius, 2)
+        ));
+    }
     if let Some((tilt, skips)) = quoted.shallow_locked {
         if skips > quoted.launch_locked {
             s.push_str(&format!(
@@ -351,6 +456,7 @@ mod tests {
             label: GYROSCOPE,
             air: false,
             pure_gyroscope_limit: true,
+            centre: PressureCentre::Faces,
             sweep: vec![
                 run(10.0, vec![3, 4, 5], 8.0),
                 run(30.0, vec![20, 30, 31], 4.0),
@@ -366,6 +472,7 @@ mod tests {
         let quoted = Quoted {
             launch_tilt: 20.0,
             first_turn_times_spin: Some(770.0),
+            first_lever: Some((26.0, 50.0)),
             shallow_locked: Some((5.0, 29)),
             launch_locked: 11,
             tilt_check: Some((10.0, 1)),
@@ -373,5 +480,42 @@ mod tests {
         let words = mechanism_words(&l, &quoted);
         assert!(words.contains("tilted 4.0° at 30.0 rev/s"), "{words}");
         assert!(words.contains("held at 5.0°: 29"), "{words}");
+        assert!(words.contains("centre of mass is 26 mm"), "{words}");
+    }
+
+    #[test]
+    fn the_centre_words_compare_drops_and_say_whether_the_locked_throws_agree() {
+        let variant = |centre, locked: Vec<usize>| Variant {
+            label: "x",
+            air: true,
+            pure_gyroscope_limit: false,
+            centre,
+            sweep: vec![
+                run(10.0, vec![3, 4, 5], 8.0),
+                run(30.0, vec![20, 30, 31], 4.0),
+                run(150.0, vec![9, 10, 12], 19.0),
+            ],
+            locked,
+        };
+        let l = LimitStudy {
+            variants: vec![
+                variant(PressureCentre::Faces, vec![10, 11, 11]),
+                variant(PressureCentre::Planing(0.75), vec![10, 11, 11]),
+            ],
+        };
+        let words = centre_words(&l);
+        assert!(
+            words.contains("each face's centroid: 1 drop of the median, locked 11"),
+            "{words}"
+        );
+        assert!(words.contains("0.75 of the wetted length"), "{words}");
+        assert!(words.contains("agree skip for skip"), "{words}");
+        let l = LimitStudy {
+            variants: vec![
+                variant(PressureCentre::Faces, vec![10, 11, 11]),
+                variant(PressureCentre::Planing(1.0), vec![9, 11, 11]),
+            ],
+        };
+        assert!(!centre_words(&l).contains("agree skip for skip"));
     }
 }

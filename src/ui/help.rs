@@ -196,6 +196,21 @@ const MODEL: &[(&str, &str, &str)] = &[
         "design §4; docs/studies/fidelity",
     ),
     (
+        "Spin (a known gap)",
+        "Free rotation: a contact's lift acts behind the centre and turns the spinning axis by \
+         J·ℓ/(I₃ω). In this model a flatter stone skips more, so a moderate spin, which lets the \
+         first contact lay the stone flatter, beats a high one, which holds it at its launch tilt: \
+         the default throw's count rises with spin to about 25 rev/s and then falls. Real stones \
+         are not reported to lose skips to spin; the model's count is a finding, not tuned.",
+        "Tang et al. 2021; Clanet et al. 2004; docs/studies/fidelity §2, §8",
+    ),
+    (
+        "End of a run (a known gap)",
+        "Record runs end in a quick 'pitty-pat' of tiny hops; the model's long runs end in hops \
+         of up to about 1 m, half of each spent sliding in contact.",
+        "whole_throw.md §3; docs/studies/fidelity §4",
+    ),
+    (
         "Receding faces",
         "Without ventilation the paper as printed pushes a face moving out of the water along −N \
          (energy from nowhere); read energy-consistently each face's pressure opposes its own \
