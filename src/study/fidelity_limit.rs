@@ -28,7 +28,7 @@ use super::{Ctx, StudyError};
 const GYROSCOPE: &str = "gyroscope alone (air and friction off)";
 
 /// Savitsky (1964)'s planing centre of pressure: 0.75 of the wetted length ahead of its trailing
-/// edge at high speed, the thin-wing quarter chord from the spray root.
+/// edge, nearer the spray root than the area centroid (physics.md §7.3).
 const SAVITSKY: f64 = 0.75;
 
 /// One model of the comparison: its spin sweep and its locked throw.
