@@ -1318,23 +1318,15 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
 
 /// The numbers of §2 that §8's explanation quotes.
 fn quoted(f: &Fidelity) -> Quoted {
-    let firsts: Vec<f64> = f
-        .turns
-        .iter()
-        .filter(|t| t.index == 1)
-        .map(|t| t.turn_deg * t.rev_per_s)
-        .collect();
-    let first_levers: Vec<f64> = f
-        .turns
-        .iter()
-        .filter(|t| t.index == 1)
-        .map(|t| t.lever_mm)
-        .collect();
-    let mean = |v: &[f64]| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+    let firsts: Vec<&AxisTurn> = f.turns.iter().filter(|t| t.index == 1).collect();
+    let mean = |of: fn(&AxisTurn) -> f64| {
+        (!firsts.is_empty())
+            .then(|| firsts.iter().map(|t| of(t)).sum::<f64>() / firsts.len() as f64)
+    };
     Quoted {
         launch_tilt: f.launch_tilt,
-        first_turn_times_spin: mean(&firsts),
-        first_lever: mean(&first_levers).map(|mm| (mm, 1e3 * f.radius)),
+        first_turn_times_spin: mean(|t| t.turn_deg * t.rev_per_s),
+        first_lever: mean(|t| t.lever_mm).map(|mm| (mm, 1e3 * f.radius)),
         shallow_locked: f.locked_tilts.first().map(|l| (l.tilt_deg, l.shape.skips)),
         launch_locked: f.locked.skips,
         tilt_check: f

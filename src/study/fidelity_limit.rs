@@ -81,22 +81,13 @@ pub struct Quoted {
     pub tilt_check: Option<(f64, usize)>,
 }
 
-/// One model of §8: its label, the air, the friction, where the pressure acts.
-struct Spec {
-    label: &'static str,
+/// The default throw with the air and the friction on or off and its pressure centre.
+fn model(
+    quick: bool,
     air: bool,
     friction: bool,
     centre: PressureCentre,
-}
-
-/// The default throw with the air and the friction on or off and its pressure centre.
-fn model(quick: bool, spec: &Spec) -> Result<Preset, StudyError> {
-    let Spec {
-        air,
-        friction,
-        centre,
-        ..
-    } = *spec;
+) -> Result<Preset, StudyError> {
     let mut p = shipped_for("default", quick)?;
     p.physics.pressure_centre = centre;
     if !air {
@@ -128,49 +119,29 @@ pub fn compute(
 ) -> Result<LimitStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the infinite-spin limit");
-    let spec = |label, air, friction, centre| Spec {
-        label,
-        air,
-        friction,
-        centre,
-    };
     let faces = PressureCentre::Faces;
+    let savitsky = PressureCentre::Planing(SAVITSKY);
+    let spray_root = PressureCentre::Planing(1.0);
     let specs = [
-        (spec("shipped", true, true, faces), Some(shipped)),
-        (spec("air off", false, true, faces), Some(air_off)),
-        (spec("friction off", true, false, faces), None),
-        (spec(GYROSCOPE, false, false, faces), None),
-        (
-            spec(
-                "Savitsky's centre (0.75)",
-                true,
-                true,
-                PressureCentre::Planing(SAVITSKY),
-            ),
-            None,
-        ),
-        (
-            spec(
-                "at the spray root (1)",
-                true,
-                true,
-                PressureCentre::Planing(1.0),
-            ),
-            None,
-        ),
+        ("shipped", true, true, faces, Some(shipped)),
+        ("air off", false, true, faces, Some(air_off)),
+        ("friction off", true, false, faces, None),
+        (GYROSCOPE, false, false, faces, None),
+        ("Savitsky's centre (0.75)", true, true, savitsky, None),
+        ("at the spray root (1)", true, true, spray_root, None),
     ];
     let mut variants = Vec::new();
-    for (spec, known) in specs {
-        let p = model(q, &spec)?;
+    for (label, air, friction, centre, known) in specs {
+        let p = model(q, air, friction, centre)?;
         let sweep = match known {
             Some(s) => s.to_vec(),
             None => spin_runs(&p, &spin_revs(q), &ensemble_offsets(q))?,
         };
         variants.push(Variant {
-            label: spec.label,
-            air: spec.air,
-            pure_gyroscope_limit: !spec.friction,
-            centre: spec.centre,
+            label,
+            air,
+            pure_gyroscope_limit: !friction,
+            centre,
             sweep,
             locked: locked_ensemble(&p, q)?,
         });
