@@ -69,13 +69,13 @@ pub fn text_summary(s: &Summary) -> String {
     }
     if !s.contacts.is_empty() {
         out.push_str(
-            "  #   t_start    t_end   dur(ms)      x       y   speed_in  beta_in  tilt_in  speed_out  lift(N)  skip\n",
+            "  #   t_start(s)  t_end(s)  dur(ms)   x(m)    y(m)  v_in(m/s) beta_in(°) tilt_in(°) v_out(m/s) lift(N) touches  skip\n",
         );
         for (i, c) in s.contacts.iter().enumerate() {
             let vin = DVec3::from_array(c.v_in).length();
             let vout = DVec3::from_array(c.v_out).length();
             out.push_str(&format!(
-                "{:>3} {:>9.4} {:>8.4} {:>8.2} {:>7.3} {:>7.3} {:>9.3} {:>8.2} {:>8.2} {:>10.3} {:>8.2}  {}\n",
+                "{:>3} {:>11.4} {:>9.4} {:>8.2} {:>7.3} {:>7.3} {:>9.3} {:>10.2} {:>10.2} {:>10.3} {:>7.2} {:>7}  {}\n",
                 i + 1,
                 c.t_start,
                 c.t_end,
@@ -87,6 +87,7 @@ pub fn text_summary(s: &Summary) -> String {
                 c.attitude_in[0],
                 vout,
                 c.peak_lift,
+                c.touches,
                 if c.skip {
                     "yes"
                 } else if c.graze {

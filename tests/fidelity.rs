@@ -99,14 +99,17 @@ fn paper_preset_does_not_speed_up() {
 
 /// No hovercraft: in every shipped preset that skips at least twice, the last contact covers at
 /// most 10 % of the distance and no earlier contact lasts longer than 0.3 s. `paper.ron` is kept as
-/// the paper's own model (locked attitude, flat water: no near field), so it is not held to it.
-/// The record throw is the record-class check below.
+/// the paper's own model (locked attitude, flat water, quasi-steady contact), so it is not held to
+/// it; nor is `bocquet_plate.ron`, Bocquet's own 2D law on his plate (the analytic yardstick,
+/// quasi-steady): under his U² law it never planes, and its tail of bounces less than the plate's
+/// diagonal apart is one contact of touches by the visible-hop rule (issue 38). The record throw is
+/// the record-class check below.
 #[test]
 fn shipped_presets_do_not_hovercraft() {
     for entry in std::fs::read_dir("assets/presets").unwrap() {
         let path = entry.unwrap().path();
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
-        if stem == "paper" || stem == "record_throw" {
+        if stem == "paper" || stem == "bocquet_plate" || stem == "record_throw" {
             continue;
         }
         let (_, t) = shape(&load(&stem));
@@ -115,20 +118,41 @@ fn shipped_presets_do_not_hovercraft() {
 }
 
 /// Record class: the record preset (~19 m/s, 150 g, 7 mm, 30 rev/s, free rotation) makes at least
-/// 40 skips over 50–130 m without a glide, and the same stone thrown slower makes fewer.
+/// 40 skips over 50–130 m without a glide, its hops shrinking (the last quarter's mean at most half
+/// the first quarter's: the pitty-pat of record runs, whole_throw.md §2), and the same stone thrown
+/// 10 %, 15 % and 37 % slower makes fewer skips over shorter runs, in order.
 #[test]
 fn record_throw_is_record_class() {
     let p = load("record_throw");
     assert_eq!(p.physics.rotation, Rotation::Free);
     assert!(p.launch.spin.abs() <= 30.0 * std::f64::consts::TAU);
-    let (_, t) = shape(&p);
+    let (s, t) = shape(&p);
     assert!(t.skips >= 40, "{t:?}");
     assert!((50.0..=130.0).contains(&t.distance), "{t:?}");
     assert_eq!(hovercraft(&t, 0.10, 0.3), None, "{t:?}");
-    let mut slow = p.clone();
-    slow.launch.velocity = [12.0, 0.0, 0.0];
-    let (_, s) = shape(&slow);
-    assert!(s.skips < t.skips, "12 m/s: {s:?} against 19 m/s: {t:?}");
+    let hops: Vec<f64> = s
+        .contacts
+        .windows(2)
+        .map(|w| (w[1].x - w[0].x).hypot(w[1].y - w[0].y))
+        .collect();
+    let quarter = hops.len() / 4;
+    let mean = |h: &[f64]| h.iter().sum::<f64>() / h.len() as f64;
+    let (first, last) = (mean(&hops[..quarter]), mean(&hops[hops.len() - quarter..]));
+    assert!(
+        last <= 0.5 * first,
+        "hops: first quarter {first} m, last {last} m"
+    );
+    let mut previous = t;
+    for speed in [0.9 * 19.0, 0.85 * 19.0, 12.0] {
+        let mut slow = p.clone();
+        slow.launch.velocity = [speed, 0.0, 0.0];
+        let (_, s) = shape(&slow);
+        assert!(
+            s.skips < previous.skips && s.distance < previous.distance,
+            "{speed} m/s: {s:?} against {previous:?}"
+        );
+        previous = s;
+    }
 }
 
 /// The curve follows the spin: reversing the spin sends the stone to the other side.

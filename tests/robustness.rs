@@ -6,8 +6,8 @@
 
 use proptest::prelude::*;
 use stoneskip::sim::params::{
-    Attitude, AxialSpin, ForceLaw, Integrator, Limiter, Precision, Preset, PressureCentre,
-    Quadrature, Rotation, Shape, StoneParams,
+    Attitude, AxialSpin, ForceLaw, Integrator, LagLength, Limiter, MemoryParams, Precision, Preset,
+    PressureCentre, Quadrature, Rotation, Shape, StoneParams,
 };
 use stoneskip::sim::{Simulation, Summary};
 
@@ -82,7 +82,12 @@ fn preset() -> impl Strategy<Value = Preset> {
             any::<bool>(),
             prop::option::of(0.0..=1.0f64),
         ),
-        (any::<bool>(), 2u32..24, 2u32..12),
+        (
+            any::<bool>(),
+            2u32..24,
+            2u32..12,
+            prop::option::of((0.1..=10.0f64, any::<bool>())),
+        ),
     )
         .prop_map(
             |(
@@ -92,7 +97,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                 (law, integ, vent, free),
                 (dt, cl, cf),
                 (water, wavy, paper_clamp, f64_water, planing),
-                (smooth, meridian, around),
+                (smooth, meridian, around, memory),
             )| {
                 let mut p = Preset::default();
                 p.stone = StoneParams {
@@ -144,6 +149,15 @@ fn preset() -> impl Strategy<Value = Preset> {
                 };
                 p.physics.pressure_centre =
                     planing.map_or(PressureCentre::Faces, PressureCentre::Planing);
+                // The wetted-extent memory at any λ the Physics panel allows, either length.
+                p.physics.wetted_memory = memory.map(|(lag, wetted)| MemoryParams {
+                    lag,
+                    length: if wetted {
+                        LagLength::Wetted
+                    } else {
+                        LagLength::Radius
+                    },
+                });
                 if smooth {
                     // The smooth lens (flat water only; validation refuses the rest).
                     p.stone.quadrature = Quadrature::Smooth { meridian, around };

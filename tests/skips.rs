@@ -43,7 +43,8 @@ fn impulse_per_mass(c: &ContactEvent, g: f64) -> f64 {
 }
 
 /// The default throw over a 2 cm, 3 m swell with wavy contact: crests brush the stone as it climbs
-/// away from a bounce. Those grazes carry less than the weight's impulse over their duration (the
+/// away from a bounce (within its diameter of the exit: a touch of that contact; farther: a
+/// graze). Grazes carry less than the weight's impulse over their duration (the
 /// rule; how much less depends on the run: a 1 nm change of the launch height moves one graze from
 /// 0.01 to 0.33 of it), a bounce several times the weight's; grazes are not counted, and the count
 /// equals the hops a student sees: one apex in flight after each skip.
@@ -55,7 +56,10 @@ fn swell_grazes_are_listed_but_not_counted() {
     // the air (shipped) the lift can carry a stone that leaves the water still descending, slowly,
     // to its next touch without one, so "one skip per apex" is a fact of vacuum flight only.
     p.physics.air = None;
-    assert!(p.water.wavy_contact);
+    // The columns' own near field under the stone, as the rule was written for (the shipped
+    // throws read the ambient water: issue 38).
+    p.water.wavy_contact = true;
+    p.physics.wetted_memory = None;
     let g = p.physics.gravity;
     let (contacts, skips, hops) = run(&p);
     let grazes: Vec<_> = contacts.iter().filter(|c| c.graze).collect();
@@ -65,7 +69,12 @@ fn swell_grazes_are_listed_but_not_counted() {
         contacts.len(),
         grazes.len()
     );
-    assert!(!grazes.is_empty(), "crests brush the stone on this swell");
+    // A crest brushing the stone within its diameter of the last exit is a touch of that contact
+    // (the visible-hop rule); farther on, a graze.
+    assert!(
+        !grazes.is_empty() || contacts.iter().any(|c| c.touches > 1),
+        "crests brush the stone on this swell"
+    );
     for c in &grazes {
         let weight = g * (c.t_end - c.t_start);
         let j = impulse_per_mass(c, g);
@@ -102,6 +111,9 @@ fn flat_water_counts_every_exit() {
     for stem in ["default", "record_throw", "paper"] {
         let mut p = shipped(stem);
         p.water.wavy_contact = false;
+        // The quasi-steady contact the rule was written for (with the memory the brush below does
+        // not happen: the stone leaves every contact climbing).
+        p.physics.wetted_memory = None;
         // The vacuum flight the brushing rim below was found in (the air rolls the stone in flight
         // and changes which contacts happen; the rule under test is the same).
         p.physics.air = None;

@@ -191,6 +191,11 @@ fn quick_fidelity_writes_its_outputs() {
 }
 
 #[test]
+fn quick_whole_throw_writes_its_outputs() {
+    quick("whole_throw");
+}
+
+#[test]
 fn quick_defaults_writes_its_outputs() {
     quick("defaults");
 }

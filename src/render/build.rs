@@ -455,6 +455,7 @@ mod tests {
                 velocity: DVec3::X,
                 orientation: DQuat::IDENTITY,
                 angular_momentum: DVec3::ZERO,
+                memory: 0.0,
             },
             angular_velocity: DVec3::ZERO,
             in_contact,

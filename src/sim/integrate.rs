@@ -17,7 +17,8 @@
 use glam::{DMat3, DQuat, DVec3, DVec4};
 
 use super::air::{Air, AIR_SUBSTEP};
-use super::hydro::{evaluate, ForceSum, HydroParams, Pose, Scratch, Surface};
+use super::hydro::{evaluate, lowest_clearance, ForceSum, HydroParams, Pose, Scratch, Surface};
+use super::memory::{geometric_immersion, WettedMemory, MAX_MEMORY};
 use super::params::{AxialSpin, Rotation};
 use super::stone::Stone;
 
@@ -32,6 +33,9 @@ pub struct BodyState {
     pub orientation: DQuat,
     /// World frame (kg m²/s).
     pub angular_momentum: DVec3,
+    /// The wetted-extent memory's effective immersion d_e (m; `memory.rs`): 0 in flight and
+    /// without the memory.
+    pub memory: f64,
 }
 
 /// Time derivative of a [`BodyState`].
@@ -41,6 +45,10 @@ pub struct Deriv {
     pub dv: DVec3,
     pub dq: DVec4,
     pub dl: DVec3,
+    /// ḋ_e = (d_g − d_e) / τ.
+    pub dm: f64,
+    /// 1/τ at this state (not a derivative: what the fixed-step integrators relax with).
+    pub relax: f64,
 }
 
 impl Deriv {
@@ -49,7 +57,19 @@ impl Deriv {
         dv: DVec3::ZERO,
         dq: DVec4::ZERO,
         dl: DVec3::ZERO,
+        dm: 0.0,
+        relax: 0.0,
     };
+
+    /// The memory after a fixed step `h` from `d_e`: its exact relaxation to this derivative's
+    /// target (stable at any step).
+    fn relaxed_memory(&self, d_e: f64, h: f64) -> f64 {
+        if self.relax > 0.0 {
+            WettedMemory::relax(d_e, d_e + self.dm / self.relax, self.relax, h)
+        } else {
+            d_e
+        }
+    }
 }
 
 pub(super) fn q4(q: DQuat) -> DVec4 {
@@ -78,12 +98,14 @@ impl BodyState {
             s.dv += k.dv * w;
             s.dq += k.dq * w;
             s.dl += k.dl * w;
+            s.dm += k.dm * w;
         }
         BodyState {
             position: self.position + s.dx * h,
             velocity: self.velocity + s.dv * h,
             orientation: normalize_q(q4(self.orientation) + s.dq * h),
             angular_momentum: self.angular_momentum + s.dl * h,
+            memory: (self.memory + s.dm * h).clamp(-MAX_MEMORY, MAX_MEMORY),
         }
     }
 
@@ -92,6 +114,7 @@ impl BodyState {
             && self.velocity.is_finite()
             && self.orientation.is_finite()
             && self.angular_momentum.is_finite()
+            && self.memory.is_finite()
     }
 }
 
@@ -106,6 +129,8 @@ pub struct Dynamics<'a> {
     pub record_loads: bool,
     /// The mesh meets the water in the Résal frame ([`mesh_orientation`]).
     pub resal: bool,
+    /// The wetted-extent memory (`physics.wetted_memory` > 0).
+    pub memory: Option<WettedMemory>,
 }
 
 /// Whether a stone meets the water in the Résal frame: `axial_spin: Resal`, free rotation, a
@@ -150,6 +175,17 @@ impl Dynamics<'_> {
         }
     }
 
+    /// The centre of mass the water's law sees: the state's, lowered by d_e − d_g while the stone
+    /// is below the ambient surface, which is the waterline raised by as much (`memory.rs`).
+    pub fn wetted_position(&self, s: &BodyState) -> DVec3 {
+        if self.memory.is_none() {
+            return s.position;
+        }
+        let q = mesh_orientation(self.resal, s);
+        let d_g = geometric_immersion(lowest_clearance(self.stone, s.position, q, self.surface));
+        lowered(s, d_g)
+    }
+
     /// The state's derivative and the water's forces on it.
     pub fn derivative(
         &self,
@@ -157,8 +193,18 @@ impl Dynamics<'_> {
         scratch: &mut Scratch,
         record: bool,
     ) -> (Deriv, ForceSum) {
-        let pose = self.pose(s);
-        let f = evaluate(
+        let mut pose = self.pose(s);
+        let (mut dm, mut relax, mut wet) = (0.0, 0.0, None);
+        if let Some(memory) = &self.memory {
+            let clearance =
+                lowest_clearance(self.stone, pose.position, pose.orientation, self.surface);
+            let d_g = geometric_immersion(clearance);
+            relax = memory.relax_rate(pose.orientation, pose.velocity, d_g);
+            dm = (d_g - s.memory) * relax;
+            pose.position = lowered(s, d_g);
+            wet = Some(clearance <= 0.0);
+        }
+        let mut f = evaluate(
             self.stone,
             &self.hydro,
             &pose,
@@ -166,11 +212,17 @@ impl Dynamics<'_> {
             scratch,
             record && self.record_loads,
         );
+        if let Some(wet) = wet {
+            // In contact is the geometry's: the ambient surface's, not the memory's.
+            f.in_contact = wet;
+        }
         let mut d = Deriv {
             dx: s.velocity,
             dv: f.force / self.stone.mass - DVec3::Z * self.gravity,
             dq: DVec4::ZERO,
             dl: DVec3::ZERO,
+            dm,
+            relax,
         };
         if self.rotation == Rotation::Free {
             let w = pose.angular_velocity;
@@ -179,6 +231,16 @@ impl Dynamics<'_> {
             d.dl = f.torque;
         }
         (d, f)
+    }
+}
+
+/// The position of `s` lowered by its memory's d_e − d_g while the lowest point is `d_g` > 0 below
+/// the ambient surface; the position itself when it is not below.
+fn lowered(s: &BodyState, d_g: f64) -> DVec3 {
+    if d_g > 0.0 {
+        s.position - DVec3::Z * (s.memory - d_g)
+    } else {
+        s.position
     }
 }
 
@@ -317,6 +379,7 @@ pub fn step_paper(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -> BodyState
     let mut out = *s;
     out.position = s.position + (s.velocity + v1) * (0.5 * h);
     out.velocity = v1;
+    out.memory = k1.relaxed_memory(s.memory, h);
     if dy.rotation == Rotation::Free {
         let w = dy.angular_velocity(s);
         out.orientation = rotate_by(s.orientation, w, h);
@@ -331,6 +394,7 @@ pub fn step_symplectic_euler(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -
     let mut out = *s;
     out.velocity = s.velocity + k1.dv * h;
     out.position = s.position + out.velocity * h;
+    out.memory = k1.relaxed_memory(s.memory, h);
     if dy.rotation == Rotation::Free {
         out.angular_momentum = s.angular_momentum + k1.dl * h;
         let w = angular_velocity(dy.stone, dy.rotation, &out);
@@ -737,13 +801,18 @@ pub fn step_dp5(
     let mut ex = DVec3::ZERO;
     let mut ev = DVec3::ZERO;
     let mut el = DVec3::ZERO;
+    let mut em = 0.0;
     for (e, k) in E.iter().zip(ks) {
         ex += k.dx * *e;
         ev += k.dv * *e;
         el += k.dl * *e;
+        em += k.dm * *e;
     }
     let ratio = |err: DVec3, scale: f64| (err * h).abs().max_element() / (tol * scale);
     let mut error = ratio(ex, scales.position).max(ratio(ev, scales.velocity));
+    if dy.memory.is_some() {
+        error = error.max((em * h).abs() / (tol * scales.position));
+    }
     if dy.rotation == Rotation::Free {
         error = error.max(ratio(el, scales.angular_momentum));
     }
@@ -775,6 +844,7 @@ mod tests {
             velocity: DVec3::new(12.0, 0.0, 0.5),
             orientation: q,
             angular_momentum: r * (stone.inertia * DVec3::new(0.0, 0.0, spin)),
+            memory: 0.0,
         }
     }
 
@@ -888,6 +958,7 @@ mod tests {
                 velocity: DVec3::new(12.0, 0.0, vz),
                 orientation: DQuat::from_rotation_y(-0.3),
                 angular_momentum: DVec3::ZERO,
+                memory: 0.0,
             };
             let speed = s.velocity.length() + 2.0 * 9.81 * h;
             let lift = air.bounds(speed).0 / stone.mass;
@@ -968,6 +1039,7 @@ mod tests {
                 surface: &FlatSurface,
                 record_loads: false,
                 resal: resal_applies(&stone, Rotation::Free, axial_spin),
+                memory: None,
             }
         };
         let (resal, smooth) = (dynamics(AxialSpin::Resal), dynamics(AxialSpin::Smooth));
@@ -1052,6 +1124,7 @@ mod tests {
                 velocity: DVec3::new(1.0, 0.0, 0.0),
                 orientation: DQuat::IDENTITY,
                 angular_momentum: DVec3::ZERO,
+                memory: 0.0,
             };
             let clear = |st: &BodyState| st.position.z + rel(st);
             assert!(clear(&s) > 0.0 && clear(&fly(&s, h)) > 0.0);
@@ -1077,6 +1150,7 @@ mod tests {
             velocity: DVec3::new(3.0, 1.0, 2.0),
             orientation: DQuat::IDENTITY,
             angular_momentum: DVec3::ZERO,
+            memory: 0.0,
         };
         let t = 0.37;
         let out = flight(&stone, Rotation::Locked, 9.81, &s, t);

@@ -178,6 +178,8 @@ mod tests {
             attitude_out: [0.0; 3],
             beta_in: 0.0,
             peak_lift: 0.0,
+            touches: 1,
+            exit_xy: [x, 0.0],
             open: false,
         }
     }

@@ -377,6 +377,41 @@ pub struct Physics {
     /// Saved only when true, so a preset that never set it reads as it did.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub steps_across_ticks: bool,
+    /// The wetted-extent memory (`memory.rs`): the waterline the faces are clipped against lags
+    /// the geometric one with τ = lag · L/|U|. `None`: the quasi-steady contact of the paper (and
+    /// of every preset that does not name it). Saved only when set, so a preset that never set it
+    /// reads as it did.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wetted_memory: Option<MemoryParams>,
+}
+
+/// The length L of the memory's lag τ = lag · L/|U| (`memory.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+pub enum LagLength {
+    /// The geometric streamwise wetted length s_g: the transit time of the water under the patch
+    /// (the Wagner-strip derivation, docs/studies/wagner_lag).
+    #[default]
+    Wetted,
+    /// The stone's radius R (the reduced form of whole_throw_memory.md §3 item B: τ = κ R/|U|).
+    Radius,
+}
+
+/// `physics.wetted_memory`: τ = `lag` · L/|U|.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MemoryParams {
+    /// λ (with L = s_g) or κ (with L = R), dimensionless.
+    pub lag: f64,
+    pub length: LagLength,
+}
+
+impl Default for MemoryParams {
+    fn default() -> Self {
+        Self {
+            lag: 2.0,
+            length: LagLength::Wetted,
+        }
+    }
 }
 
 impl Default for Physics {
@@ -400,6 +435,7 @@ impl Default for Physics {
             dt: 0.005,
             max_time: 20.0,
             steps_across_ticks: false,
+            wetted_memory: None,
         }
     }
 }
@@ -833,6 +869,9 @@ impl Physics {
             check_range("physics.friction_coefficient", cf, 0.0, 10.0, "")?;
         }
         check_range("physics.tolerance", self.tolerance, 1e-12, 1e-2, "")?;
+        if let Some(m) = self.wetted_memory {
+            check_positive("physics.wetted_memory.lag", m.lag, 100.0, "")?;
+        }
         if let PressureCentre::Planing(f) = self.pressure_centre {
             check_range(
                 "physics.pressure_centre.Planing",

@@ -40,37 +40,47 @@ pub const MAX_FINAL_SHARE: f64 = 0.10;
 /// …and no earlier contact longer than this (s).
 pub const MAX_EARLIER_CONTACT: f64 = 0.3;
 
-/// The shipped presets, by file stem, as compiled in (the study must not depend on the folder).
+/// The presets of issue 11's model as they shipped until issue 38 (the stone on its own near
+/// field: wavy contact on 2 cm columns, the quasi-steady contact), by file stem, as compiled in from
+/// `docs/studies/fidelity/presets/`: this study is the record of that model, regenerated from its
+/// own presets. The shipped presets moved on to the ambient contact with the wetted-extent memory
+/// (docs/studies/whole_throw).
 pub const SHIPPED: [(&str, &str); 9] = [
-    ("default", include_str!("../../assets/presets/default.ron")),
+    (
+        "default",
+        include_str!("../../docs/studies/fidelity/presets/default.ron"),
+    ),
     (
         "magic_angle",
-        include_str!("../../assets/presets/magic_angle.ron"),
+        include_str!("../../docs/studies/fidelity/presets/magic_angle.ron"),
     ),
     (
         "too_steep",
-        include_str!("../../assets/presets/too_steep.ron"),
+        include_str!("../../docs/studies/fidelity/presets/too_steep.ron"),
     ),
     (
         "too_slow",
-        include_str!("../../assets/presets/too_slow.ron"),
+        include_str!("../../docs/studies/fidelity/presets/too_slow.ron"),
     ),
     (
         "record_throw",
-        include_str!("../../assets/presets/record_throw.ron"),
+        include_str!("../../docs/studies/fidelity/presets/record_throw.ron"),
     ),
-    ("paper", include_str!("../../assets/presets/paper.ron")),
+    (
+        "paper",
+        include_str!("../../docs/studies/fidelity/presets/paper.ron"),
+    ),
     (
         "bocquet_plate",
-        include_str!("../../assets/presets/bocquet_plate.ron"),
+        include_str!("../../docs/studies/fidelity/presets/bocquet_plate.ron"),
     ),
     (
         "clanet_disc",
-        include_str!("../../assets/presets/clanet_disc.ron"),
+        include_str!("../../docs/studies/fidelity/presets/clanet_disc.ron"),
     ),
     (
         "no_spin_dive",
-        include_str!("../../assets/presets/no_spin_dive.ron"),
+        include_str!("../../docs/studies/fidelity/presets/no_spin_dive.ron"),
     ),
 ];
 
@@ -2040,16 +2050,19 @@ mod tests {
 
     #[test]
     fn every_shipped_preset_is_listed_and_parses() {
-        let files = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/presets"))
-            .unwrap()
-            .filter(|e| {
-                e.as_ref()
-                    .unwrap()
-                    .path()
-                    .extension()
-                    .is_some_and(|x| x == "ron")
-            })
-            .count();
+        let files = std::fs::read_dir(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/docs/studies/fidelity/presets"
+        ))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "ron")
+        })
+        .count();
         assert_eq!(files, SHIPPED.len());
         for (stem, _) in SHIPPED {
             shipped(stem).unwrap();

@@ -25,6 +25,7 @@ pub mod stability;
 pub mod style;
 pub mod table;
 pub mod throws;
+pub mod whole_throw;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -36,13 +37,20 @@ use crate::sim::reference::ReferenceError;
 use crate::sim::SimError;
 
 /// The studies `run_study` knows, in the order `all` runs them.
-pub const STUDIES: [&str; 5] = ["accuracy", "stability", "phase", "defaults", "fidelity"];
+pub const STUDIES: [&str; 6] = [
+    "accuracy",
+    "stability",
+    "phase",
+    "defaults",
+    "fidelity",
+    "whole_throw",
+];
 
 /// Errors of the studies.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
     #[error(
-        "unknown study `{0}`; valid names: accuracy, stability, phase, defaults, fidelity, spin, all"
+        "unknown study `{0}`; valid names: accuracy, stability, phase, defaults, fidelity, whole_throw, spin, all"
     )]
     Unknown(String),
     #[error(transparent)]
@@ -137,7 +145,8 @@ impl Ctx {
     }
 }
 
-/// Runs study `name` ("accuracy", "stability", "phase", "defaults", "spin" or "all") into `out`; `quick`
+/// Runs study `name` ("accuracy", "stability", "phase", "defaults", "fidelity", "whole_throw",
+/// "spin" or "all") into `out`; `quick`
 /// takes coarse grids (CI). With "all", each study writes into its own subfolder of `out`.
 pub fn run_study(name: &str, out: &Path, quick: bool) -> anyhow::Result<()> {
     install_ctrlc();
@@ -176,6 +185,7 @@ fn run_one(name: &str, out: &Path, quick: bool) -> Result<f64, StudyError> {
         "phase" => phase::run(&Ctx::new("phase", out, quick)?)?,
         "defaults" => defaults::run(&Ctx::new("defaults", out, quick)?)?,
         "fidelity" => fidelity::run(&Ctx::new("fidelity", out, quick)?)?,
+        "whole_throw" => whole_throw::run_study(&Ctx::new("whole_throw", out, quick)?)?,
         // The phase study's spin axis alone (`phase` runs it too).
         "spin" => {
             let ctx = Ctx::new("spin", out, quick)?;
@@ -257,7 +267,9 @@ mod tests {
         let e = run_study("nope", &dir, true).unwrap_err().to_string();
         assert!(
             e.contains("nope")
-                && e.contains("accuracy, stability, phase, defaults, fidelity, spin, all"),
+                && e.contains(
+                    "accuracy, stability, phase, defaults, fidelity, whole_throw, spin, all"
+                ),
             "{e}"
         );
     }

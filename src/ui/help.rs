@@ -120,7 +120,8 @@ const MODEL: &[(&str, &str, &str)] = &[
         "Outcome",
         "Sank when the whole underside is below the surface; left the lake at the grid's edge; \
          still going at the time limit; diverged when the numbers stop being finite. A skip is a \
-         contact that ends with the stone wholly in the air.",
+         contact that ends with the stone wholly in the air and a flight at least as long as \
+         the stone.",
         "Bocquet 2003 (loss of lift); design §4",
     ),
     (
@@ -156,14 +157,23 @@ const MODEL: &[(&str, &str, &str)] = &[
         "docs/studies/stability §B",
     ),
     (
+        "Water's lag",
+        "The water under a fast stone takes a moment to rise beside it and to fall back, so the \
+         wetted patch follows the stone's motion a little late: by about twice the time the water \
+         takes to pass under the patch. Going in, less of the stone is wet than its depth says; \
+         coming out, more. That small delay feeds each bounce, so a fast stone keeps skipping \
+         instead of gliding, and a slow one settles into a glide and sinks (Hewitt et al. 2011). \
+         The stone touches the lake's own surface (flat water or its swell), never its own rings, \
+         so a throw's skips do not change with the tick, the cells or the mesh.",
+        "Wagner 1932; Hewitt et al. 2011; docs/studies/wagner_lag; docs/studies/whole_throw",
+    ),
+    (
         "Wavy contact",
-        "Contact against the grid's height instead of z = 0: the stone rides on the water its own \
-         pressure moves, which breaks up the steady planing glides of flat water (the shipped \
-         presets use it on 2 cm columns). Not converged: results move with the cell and the \
-         depth, and below 1.4 cm the glides come back (the columns are shallow-water waves; \
-         at the stone's scale real water is deep); the stone and the water meet once a tick, \
-         and results move with the tick too (fidelity §11).",
-        "the paper (future work); Hewitt et al. 2011; docs/studies/fidelity",
+        "Optional: contact against the grid's height instead of the lake's own surface, so the \
+         stone rides on the water its own pressure moves (issue 11's model). Not converged: \
+         results move with the cell, the depth and the tick (the columns are shallow-water \
+         waves; at the stone's scale real water is deep).",
+        "the paper (future work); docs/studies/fidelity §9–§11",
     ),
     (
         "Deep-water near field",
@@ -196,19 +206,20 @@ const MODEL: &[(&str, &str, &str)] = &[
         "design §4; docs/studies/fidelity",
     ),
     (
-        "Spin (a known gap)",
+        "Spin",
         "Free rotation: a contact's lift acts behind the centre and turns the spinning axis by \
-         J·ℓ/(I₃ω). In this model a flatter stone skips more, so a moderate spin, which lets the \
-         first contact lay the stone flatter, beats a high one, which holds it at its launch tilt: \
-         the default throw's count rises with spin to about 25 rev/s and then falls. Real stones \
-         are not reported to lose skips to spin; the model's count is a finding, not tuned.",
-        "Tang et al. 2021; Clanet et al. 2004; docs/studies/fidelity §2, §8",
+         J·ℓ/(I₃ω). A little spin lets the first contact lay the stone flatter, and a flatter \
+         stone skips more, so the default throw makes most skips at 15–25 rev/s and fewer towards \
+         the held attitude's count at high spin; without spin it dives. The curve as it is, not \
+         tuned: no measurement says more spin never costs skips.",
+        "Tang et al. 2021; Clanet et al. 2004; docs/studies/whole_throw §6",
     ),
     (
-        "End of a run (a known gap)",
-        "Record runs end in a quick 'pitty-pat' of tiny hops; the model's long runs end in hops \
-         of up to about 1 m, half of each spent sliding in contact.",
-        "whole_throw.md §3; docs/studies/fidelity §4",
+        "A skip",
+        "A touch followed by a flight at least as long as the stone (a hop you can see). Touches \
+         closer together belong to one contact, listed in its touches column, as a person \
+         counting a throw from the bank would count them.",
+        "design §4; docs/studies/whole_throw",
     ),
     (
         "Receding faces",

@@ -207,7 +207,7 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, weight: 
         .show(ui, |ui| {
             egui::Grid::new("contacts_grid")
                 .striped(true)
-                .num_columns(8)
+                .num_columns(9)
                 .spacing([10.0, 2.0])
                 .show(ui, |ui| {
                     for (h, tip) in [
@@ -219,6 +219,11 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, weight: 
                         ),
                         ("t (s)", "start of the contact"),
                         ("ms", "duration"),
+                        (
+                            "touches",
+                            "touches of the water less than the stone's diameter apart: one contact, \
+                             since a hop you cannot see is not a skip",
+                        ),
                         ("x (m)", "where it started"),
                         ("slid (m)", "horizontal distance during the contact"),
                         ("v in", "speed at the start (m/s)"),
@@ -243,6 +248,7 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, weight: 
                         ui.label(RichText::new(format!("{} {mark}", i + 1)).color(color));
                         ui.monospace(format!("{:.3}", c.t_start));
                         ui.monospace(format!("{:.1}", 1000.0 * (c.t_end - c.t_start)));
+                        ui.monospace(format!("{}", c.touches));
                         ui.monospace(format!("{:.2}", c.x));
                         ui.monospace(format!("{:.2}", slide_distance(c)));
                         ui.monospace(format!("{:.2}", DVec3::from_array(c.v_in).length()));
@@ -519,6 +525,7 @@ mod tests {
                     velocity: DVec3::X,
                     orientation: glam::DQuat::IDENTITY,
                     angular_momentum: DVec3::ZERO,
+                    memory: 0.0,
                 },
                 angular_velocity: DVec3::ZERO,
                 in_contact: true,

@@ -5,9 +5,9 @@
 use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
-    AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Launch, Limiter, NearField, Physics,
-    Precision, PressureCentre, PressureSign, Quadrature, Rotation, Shape, StoneParams, Swell,
-    WaterParams, MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
+    AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, LagLength, Launch, Limiter,
+    MemoryParams, NearField, Physics, Precision, PressureCentre, PressureSign, Quadrature,
+    Rotation, Shape, StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
 };
 
 use super::ViewSettings;
@@ -633,6 +633,7 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         c |= ui.checkbox(&mut physics.ventilated, "").changed();
         ui.end_row();
         c |= loading_options_ui(ui, physics, marks);
+        c |= memory_ui(ui, physics, marks);
         c |= air_ui(ui, physics, marks);
         label_ui(ui, marks, &["integrator"], "Integrator", "");
         let before = physics.integrator;
@@ -1160,6 +1161,49 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
     });
 }
 
+/// The wetted-extent memory (issue 38, `sim/memory.rs`): on or off, its λ and its length.
+fn memory_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
+    let mut c = false;
+    label_ui(
+        ui,
+        marks,
+        &["wetted memory"],
+        "Water's lag",
+        "The water under a fast stone takes a moment to rise and to fall back, so its wetted \
+         patch lags the stone's motion: τ = λ L/|U|, L the patch's length along the flow (the \
+         time the water takes to pass under it: a Wagner strip, docs/studies/wagner_lag). This is \
+         what breaks up planing at speed (Hewitt et al. 2011) and makes whole throws converge. \
+         Off: the quasi-steady contact of the paper; fast throws then end in a long glide.",
+    );
+    let mut on = physics.wetted_memory.is_some();
+    if ui.checkbox(&mut on, "").changed() {
+        physics.wetted_memory = on.then(MemoryParams::default);
+        c = true;
+    }
+    ui.end_row();
+    if let Some(memory) = physics.wetted_memory.as_mut() {
+        c |= row(
+            ui,
+            marks,
+            "wetted memory.lag",
+            "λ",
+            "The lag in units of L/|U|: about 1–3 from the Wagner strip; the shipped 2",
+            |ui| ui.add(slider(&mut memory.lag, 0.1..=10.0).logarithmic(true)),
+        );
+        c |= choice_row_ui(
+            ui,
+            marks,
+            &["wetted memory.length"],
+            "Lag length L",
+            "Wetted: the patch's geometric length along the flow (the transit time, shipped). \
+             Radius: the stone's radius (the reduced form τ = κ R/|U| of the first analysis).",
+            &mut memory.length,
+            &[(LagLength::Wetted, "Wetted"), (LagLength::Radius, "Radius")],
+        );
+    }
+    c
+}
+
 /// The air in flight (`air.rs`): on or off, and its density and coefficients when on.
 fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut c = false;
@@ -1470,6 +1514,13 @@ mod tests {
         };
         ph.dt *= 0.5;
         ph.max_time += 1.0;
+        ph.wetted_memory = Some(MemoryParams {
+            lag: 3.0,
+            length: match ph.wetted_memory.map(|m| m.length) {
+                Some(LagLength::Wetted) => LagLength::Radius,
+                _ => LagLength::Wetted,
+            },
+        });
         let mut w = p.water;
         w.enabled = !w.enabled;
         w.wavy_contact = !w.wavy_contact;
@@ -1493,7 +1544,7 @@ mod tests {
             section_differences(&p.water, &w),
         ];
         let counts: Vec<usize> = d.iter().map(Vec::len).collect();
-        assert_eq!(counts, [13, 5, 15, 14], "{d:?}");
+        assert_eq!(counts, [13, 5, 16, 14], "{d:?}");
         let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
         draw(|ui| {
             launch_ui(ui, &mut l, &m[0]);
