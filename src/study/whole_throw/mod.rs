@@ -114,7 +114,7 @@ pub struct Variant {
     pub run: Run,
 }
 
-type Change = (&'static str, fn(&mut Preset));
+pub type Change = (&'static str, fn(&mut Preset));
 
 /// The numerics refined as the issue asks.
 pub const REFINEMENTS: [Change; 5] = [

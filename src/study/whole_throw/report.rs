@@ -10,7 +10,7 @@ use super::super::style::colors;
 use super::super::table::{md_table, pct, sig, Csv, Val};
 use super::super::{Ctx, StudyError};
 use super::{
-    FirstBounce, Model, Run, Variant, WholeThrow, CLANET_SPEED, NEIGHBOURS, REFINEMENTS,
+    Change, FirstBounce, Model, Run, Variant, WholeThrow, CLANET_SPEED, NEIGHBOURS, REFINEMENTS,
     TANGENTIAL_VZ, THROWS,
 };
 
@@ -333,11 +333,15 @@ fn spin_cells(w: &WholeThrow) -> (String, String, String) {
 
 /// The record count's change when λ moves ±20 % (falsifier F2: more than ±30 %).
 fn lag_sensitivity(w: &WholeThrow) -> String {
-    let shipped = w.lags.get(1).map(|l| l.memory.lag).unwrap_or(f64::NAN);
+    let shipped = w.shipped.lag;
     let count = |stem: &str, lag: f64| {
         w.lags
             .iter()
-            .find(|l| l.stem == stem && l.memory.length == LagLength::Wetted && l.memory.lag == lag)
+            .find(|l| {
+                l.stem == stem
+                    && l.memory.length == w.shipped.length
+                    && (l.memory.lag - lag).abs() < 1e-9
+            })
             .map(|l| l.run.shape.skips)
     };
     let stem = if w.lags.iter().any(|l| l.stem == "record_throw") {
@@ -547,10 +551,7 @@ fn lead_table(w: &WholeThrow) -> String {
     )
 }
 
-fn variants_table(
-    rows: &[Variant],
-    changes: &[(&str, fn(&mut crate::sim::params::Preset))],
-) -> String {
+fn variants_table(rows: &[Variant], changes: &[Change]) -> String {
     let mut out = Vec::new();
     for model in [Model::Before, Model::After] {
         for stem in THROWS {
