@@ -41,6 +41,8 @@ enum Command {
     },
     /// Runs a preset headless and prints a summary.
     Simulate {
+        /// A preset file (RON), or a shipped preset's name: default, magic_angle, record_throw,
+        /// too_slow, too_steep, paper, bocquet_plate, clanet_disc, no_spin_dive.
         #[arg(long)]
         preset: PathBuf,
         /// One JSON object on stdout instead of the text summary.
@@ -55,6 +57,7 @@ enum Command {
     },
     /// Renders the scene at time T offscreen to a PNG.
     Render {
+        /// A preset file (RON), or a shipped preset's name (see `simulate --help`).
         #[arg(long)]
         preset: PathBuf,
         #[arg(long)]
@@ -116,7 +119,7 @@ fn run() -> Result<()> {
             view,
             exaggerate,
         }) => {
-            let p = preset::load(&preset)?;
+            let p = preset::load_file_or_shipped(&preset)?;
             let view = stoneskip::render::PictureView {
                 view: parse_view(&view).map_err(anyhow::Error::msg)?,
                 exaggeration: exaggerate,
@@ -171,7 +174,7 @@ fn time_left(remaining: f64, rate: f64) -> String {
 }
 
 fn simulate(path: &Path, json: bool, csv: Option<&Path>, step_water: bool) -> Result<()> {
-    let preset: Preset = preset::load(path)?;
+    let preset: Preset = preset::load_file_or_shipped(path)?;
     let mut sim = Simulation::new(&preset).with_context(|| format!("{}", path.display()))?;
     if !step_water {
         sim.skip_unread_water();

@@ -11,7 +11,10 @@ use crate::sim::params::{ParamError, Preset};
 /// Why a preset could not be read or written. Displayed as one line: `file:line:col: message`.
 #[derive(Debug, thiserror::Error)]
 pub enum PresetError {
-    #[error("{path}: cannot read the preset: {error}")]
+    #[error(
+        "{path}: cannot read the preset: {error} (a file, or a shipped preset's name: {})",
+        shipped_names()
+    )]
     Read {
         path: PathBuf,
         error: std::io::Error,
@@ -31,6 +34,51 @@ pub enum PresetError {
     },
     #[error("{path}: cannot save the preset: {message}")]
     Write { path: PathBuf, message: String },
+}
+
+/// The shipped presets (`assets/presets/`), by file stem, as compiled in.
+pub const SHIPPED: [(&str, &str); 9] = [
+    ("default", include_str!("../assets/presets/default.ron")),
+    (
+        "magic_angle",
+        include_str!("../assets/presets/magic_angle.ron"),
+    ),
+    (
+        "record_throw",
+        include_str!("../assets/presets/record_throw.ron"),
+    ),
+    ("too_slow", include_str!("../assets/presets/too_slow.ron")),
+    ("too_steep", include_str!("../assets/presets/too_steep.ron")),
+    ("paper", include_str!("../assets/presets/paper.ron")),
+    (
+        "bocquet_plate",
+        include_str!("../assets/presets/bocquet_plate.ron"),
+    ),
+    (
+        "clanet_disc",
+        include_str!("../assets/presets/clanet_disc.ron"),
+    ),
+    (
+        "no_spin_dive",
+        include_str!("../assets/presets/no_spin_dive.ron"),
+    ),
+];
+
+fn shipped_names() -> String {
+    SHIPPED.map(|(stem, _)| stem).join(", ")
+}
+
+/// A preset file, or, when no such file exists, the shipped preset of that name (`default`,
+/// `record_throw`, …, with or without `.ron`): what the command line's `--preset` takes.
+pub fn load_file_or_shipped(arg: &Path) -> Result<Preset, PresetError> {
+    if !arg.exists() {
+        let name = arg.to_string_lossy();
+        let stem = name.strip_suffix(".ron").unwrap_or(&name);
+        if let Some((stem, text)) = SHIPPED.iter().find(|(s, _)| *s == stem) {
+            return parse(text, Path::new(&format!("assets/presets/{stem}.ron")));
+        }
+    }
+    load(arg)
 }
 
 /// Reads and validates a preset file.
@@ -194,6 +242,29 @@ fn sync_dir(dir: &Path) -> std::io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_shipped_preset_is_compiled_in_and_parses() {
+        let files = fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/presets"))
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .path()
+                    .extension()
+                    .is_some_and(|x| x == "ron")
+            })
+            .count();
+        assert_eq!(files, SHIPPED.len());
+        for (stem, text) in SHIPPED {
+            let from_file = load(Path::new(&format!(
+                "{}/assets/presets/{stem}.ron",
+                env!("CARGO_MANIFEST_DIR")
+            )))
+            .unwrap();
+            assert_eq!(from_file, parse(text, Path::new(stem)).unwrap(), "{stem}");
+        }
+    }
 
     #[test]
     fn default_round_trips() {

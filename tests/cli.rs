@@ -210,3 +210,24 @@ fn headless_build_says_the_app_is_missing() {
     }
     assert!(!png.exists());
 }
+
+/// `--preset` takes a shipped preset's name as well as a file: the same run as the file's, bit for
+/// bit; a name that is neither gets one message listing the shipped names (issue 39, finding 8).
+#[test]
+fn preset_by_shipped_name() {
+    let by_name = stoneskip(&["simulate", "--preset", "magic_angle", "--json"]);
+    assert!(by_name.status.success(), "{by_name:?}");
+    let by_file = stoneskip(&[
+        "simulate",
+        "--preset",
+        "assets/presets/magic_angle.ron",
+        "--json",
+    ]);
+    assert_eq!(by_name.stdout, by_file.stdout);
+    let ron = stoneskip(&["simulate", "--preset", "magic_angle.ron", "--json"]);
+    assert_eq!(ron.stdout, by_file.stdout);
+    assert_clear_error(
+        &stoneskip(&["simulate", "--preset", "no_such_throw"]),
+        &["no_such_throw", "default", "record_throw"],
+    );
+}

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use glam::DVec3;
-use stoneskip::sim::params::{LagLength, MemoryParams, Preset, Quadrature, Rotation};
+use stoneskip::sim::params::{LagLength, MemoryParams, Preset, Quadrature};
 use stoneskip::sim::{simulate, Summary};
 
 fn load(stem: &str) -> Preset {
@@ -156,24 +156,9 @@ fn a_skip_is_a_hop_you_can_see() {
 }
 
 /// The default pebble with its attitude held touching flat water almost tangentially
-/// (v_z = −0.1 m/s) at `speed`, its lowest point 0.5 mm above the water.
+/// (v_z = −0.1 m/s) at `speed`, its lowest point 0.5 mm above the water (the study's throw).
 fn tangential(speed: f64) -> Preset {
-    let mut p = load("default");
-    p.physics.rotation = Rotation::Locked;
-    p.physics.air = None;
-    p.water.enabled = false;
-    p.launch.spin = 0.0;
-    let stone = stoneskip::sim::stone::Stone::new(&p.stone).unwrap();
-    let q = stoneskip::sim::stone::orientation_from_attitude(&p.launch.attitude);
-    let lowest = stone
-        .mesh
-        .positions
-        .iter()
-        .map(|&v| (q * v).z)
-        .fold(f64::INFINITY, f64::min);
-    p.launch.position = [0.0, 0.0, 0.0005 - lowest];
-    p.launch.velocity = [speed, 0.0, -0.1];
-    p
+    stoneskip::study::whole_throw::tangential_preset(speed).unwrap()
 }
 
 /// Planing is unstable at speed and stable when slow (Hewitt et al. 2011): at 12 m/s the held
