@@ -328,16 +328,13 @@ impl Model {
     fn readouts_ui(&mut self, ui: &mut egui::Ui, adapter: &str, actions: &mut Vec<Action>) {
         let head = |s: &str| RichText::new(s).heading();
         let radius = self.sim.stone().shape.half_extent();
-        let weight = self.sim.stone().mass * self.sim.preset().physics.gravity;
         let shown = &self.shown;
         egui::CollapsingHeader::new(head("Readouts"))
             .default_open(true)
             .show(ui, |ui| ui::readouts_ui(ui, &shown.readouts));
         egui::CollapsingHeader::new(head("Contacts"))
             .default_open(true)
-            .show(ui, |ui| {
-                ui::contacts_ui(ui, &shown.contacts, radius, weight)
-            });
+            .show(ui, |ui| ui::contacts_ui(ui, &shown.contacts, radius));
         egui::CollapsingHeader::new(head("Export"))
             .default_open(true)
             .show(ui, |ui| {

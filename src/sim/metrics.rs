@@ -179,6 +179,7 @@ mod tests {
             beta_in: 0.0,
             peak_lift: 0.0,
             touches: 1,
+            weight: 1.0,
             exit_xy: [x, 0.0],
             open: false,
         }

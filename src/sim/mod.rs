@@ -127,6 +127,10 @@ pub struct ContactEvent {
     /// How many touches the contact holds: episodes separated by flights shorter than the
     /// stone's diameter belong to one contact (a hop you cannot see is not a skip; design.md §4).
     pub touches: u32,
+    /// The stone's weight (N) when the contact began, what its peak is read in g against: a
+    /// later live change of gravity does not rewrite it.
+    #[serde(skip)]
+    pub weight: f64,
     /// Centre of mass (x, y) when the last touch ended (the start of the flight after it).
     #[serde(skip)]
     pub exit_xy: [f64; 2],
@@ -135,9 +139,9 @@ pub struct ContactEvent {
 }
 
 impl ContactEvent {
-    /// `peak_lift` as a multiple of the weight `weight` (N); `None` without gravity.
-    pub fn peak_g(&self, weight: f64) -> Option<f64> {
-        (weight > 0.0).then(|| self.peak_lift / weight)
+    /// `peak_lift` as a multiple of the weight when the contact began; `None` without gravity.
+    pub fn peak_g(&self) -> Option<f64> {
+        (self.weight > 0.0).then(|| self.peak_lift / self.weight)
     }
 }
 
@@ -905,6 +909,7 @@ impl Simulation {
             beta_in: (-v.z).atan2(vh).to_degrees(),
             peak_lift: 0.0,
             touches: 1,
+            weight: self.stone.mass * self.preset.physics.gravity,
             exit_xy: [s.position.x, s.position.y],
             open: true,
         }
@@ -2186,11 +2191,32 @@ mod tests {
             let mean = sim.stone().mass * (c.v_out[2] - c.v_in[2]) / (c.t_end - c.t_start) + weight;
             if c.skip {
                 assert!(mean > weight && c.peak_lift > weight, "{c:?}");
-                assert!(c.peak_g(weight).unwrap() > 1.0);
+                assert!(c.peak_g().unwrap() > 1.0);
             }
             assert!(c.peak_lift > 0.0 && c.peak_lift.is_finite(), "{c:?}");
         }
-        assert_eq!(s.contacts[0].peak_g(0.0), None);
+        let mut weightless = s.contacts[0];
+        weightless.weight = 0.0;
+        assert_eq!(weightless.peak_g(), None);
+    }
+
+    /// A live change of gravity does not rewrite the past (issue 39, finding 2): the contacts
+    /// before it keep the peak g they had, read against the weight they were made with.
+    #[test]
+    fn a_live_gravity_change_keeps_earlier_peaks() {
+        let mut p = Preset::default();
+        p.water.enabled = false;
+        let mut sim = Simulation::new(&p).unwrap();
+        while sim.contacts().first().is_none_or(|c| c.open) {
+            sim.tick();
+        }
+        let before = sim.contacts()[0].peak_g().unwrap();
+        let mut heavy = p.physics;
+        heavy.gravity = 30.0;
+        sim.set_physics(heavy).unwrap();
+        sim.run(&mut |_| {}, &|| false);
+        assert_eq!(sim.contacts()[0].peak_g(), Some(before));
+        assert!(before > 1.0, "{before}");
     }
 
     /// A run that ends otherwise carries no reason.

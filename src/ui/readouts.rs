@@ -194,9 +194,9 @@ pub fn contact_kind(c: &ContactEvent, radius: f64) -> ContactKind {
     }
 }
 
-/// The table of contact episodes (`radius`: the stone's half-width, for telling a glide; `weight`:
-/// the stone's weight in N, for the peak lift in g).
-pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, weight: f64) {
+/// The table of contact episodes (`radius`: the stone's half-width, for telling a glide); each
+/// contact's peak lift in g against the weight it was made with.
+pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
     if contacts.is_empty() {
         ui.weak("no contact yet");
         return;
@@ -254,7 +254,7 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, weight: 
                         ui.monospace(format!("{:.2}", DVec3::from_array(c.v_in).length()));
                         ui.monospace(format!("{:.1}°", c.beta_in));
                         ui.monospace(
-                            c.peak_g(weight)
+                            c.peak_g()
                                 .map_or_else(|| "—".to_owned(), |g| format!("{g:.1}")),
                         );
                         ui.end_row();
