@@ -609,7 +609,7 @@ impl Model {
             force: DVec3::ZERO,
         };
         self.samples.push(first);
-        self.plots.push(&first);
+        self.plots.push(&first, self.weight());
         self.heights.refresh(&self.sim, self.generation);
         self.warnings = setup_warnings(self.sim.preset());
     }
@@ -709,6 +709,7 @@ impl Model {
         self.prev_pose = self.cur_pose;
         let water_steps = self.sim.water().map(|w| w.steps());
         let start = Instant::now();
+        let weight = self.weight();
         let Self {
             sim,
             trail,
@@ -722,7 +723,7 @@ impl Model {
                 if samples.len() < MAX_SAMPLES {
                     samples.push(*s);
                 }
-                plots.push(s);
+                plots.push(s, weight);
             },
             should_yield,
         );
@@ -1152,11 +1153,7 @@ impl Model {
         self.shown = Shown {
             readouts: self.readouts(),
             contacts: self.sim.contacts().to_vec(),
-            plots: self.plots.decimated(
-                400,
-                end,
-                self.sim.stone().mass * self.sim.preset().physics.gravity,
-            ),
+            plots: self.plots.decimated(400, end),
             plot_end: end,
             timing: self.timing,
             outcome: self.sim.outcome().map(outcome_words),
@@ -1173,6 +1170,11 @@ impl Model {
             at: Some(Instant::now()),
             frame: self.frames,
         };
+    }
+
+    /// The stone's weight now (N): what the lift plot's new points are read in g against.
+    fn weight(&self) -> f64 {
+        self.sim.stone().mass * self.sim.preset().physics.gravity
     }
 
     fn readouts(&self) -> Readouts {

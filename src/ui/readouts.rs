@@ -16,7 +16,8 @@ pub struct PlotSeries {
     pub speed: Vec<PlotPoint>,
     /// cm²
     pub area: Vec<PlotPoint>,
-    /// The water's upward force, N.
+    /// The water's upward force over the stone's weight when it was sampled (g; none without
+    /// gravity), so a later live change of gravity does not rewrite the past.
     pub lift: Vec<PlotPoint>,
     last_t: f64,
 }
@@ -31,27 +32,19 @@ impl PlotSeries {
         *self = Self::default();
     }
 
-    /// The four series as drawn over [0, end] in `buckets` columns (see [`decimate`]), the lift
-    /// in g of a stone weighing `weight` N (none without gravity).
-    pub fn decimated(&self, buckets: usize, end: f64, weight: f64) -> [Vec<PlotPoint>; 4] {
+    /// The four series as drawn over [0, end] in `buckets` columns (see [`decimate`]).
+    pub fn decimated(&self, buckets: usize, end: f64) -> [Vec<PlotPoint>; 4] {
         let x1 = end.max(0.1);
-        let lift_g: Vec<PlotPoint> = if weight > 0.0 {
-            self.lift
-                .iter()
-                .map(|p| PlotPoint::new(p.x, p.y / weight))
-                .collect()
-        } else {
-            Vec::new()
-        };
         [
             decimate(&self.height, 0.0, x1, buckets),
             decimate(&self.speed, 0.0, x1, buckets),
             decimate(&self.area, 0.0, x1, buckets),
-            decimate(&lift_g, 0.0, x1, buckets),
+            decimate(&self.lift, 0.0, x1, buckets),
         ]
     }
 
-    pub fn push(&mut self, s: &StepSample) {
+    /// Adds a step of a stone weighing `weight` N (its lift is kept in g; none without gravity).
+    pub fn push(&mut self, s: &StepSample, weight: f64) {
         if !s.in_contact && !self.height.is_empty() && s.time - self.last_t < Self::FLIGHT_SPACING {
             return;
         }
@@ -61,7 +54,9 @@ impl PlotSeries {
         self.height.push(PlotPoint::new(s.time, p.z));
         self.speed.push(PlotPoint::new(s.time, v.length()));
         self.area.push(PlotPoint::new(s.time, s.wetted_area * 1e4));
-        self.lift.push(PlotPoint::new(s.time, s.force.z));
+        if weight > 0.0 {
+            self.lift.push(PlotPoint::new(s.time, s.force.z / weight));
+        }
         if self.height.len() > Self::MAX_POINTS {
             for series in [
                 &mut self.height,
@@ -514,30 +509,42 @@ mod tests {
         assert_eq!(d.last().map(|p| p.x), data.last().map(|p| p.x));
     }
 
+    /// A step at `time` with the water's upward force `fz` (N).
+    fn sample(time: f64, fz: f64) -> StepSample {
+        StepSample {
+            time,
+            state: crate::sim::integrate::BodyState {
+                position: DVec3::ZERO,
+                velocity: DVec3::X,
+                orientation: glam::DQuat::IDENTITY,
+                angular_momentum: DVec3::ZERO,
+                memory: 0.0,
+            },
+            angular_velocity: DVec3::ZERO,
+            in_contact: true,
+            wetted_area: 0.0,
+            force: DVec3::new(1.0, 0.0, fz),
+        }
+    }
+
     #[test]
     fn the_lift_plot_is_the_waters_upward_force_over_the_weight() {
         let mut plots = PlotSeries::default();
         for (i, fz) in [0.0, 2.0, 7.5, 0.0].into_iter().enumerate() {
-            plots.push(&StepSample {
-                time: i as f64 * 0.01,
-                state: crate::sim::integrate::BodyState {
-                    position: DVec3::ZERO,
-                    velocity: DVec3::X,
-                    orientation: glam::DQuat::IDENTITY,
-                    angular_momentum: DVec3::ZERO,
-                    memory: 0.0,
-                },
-                angular_velocity: DVec3::ZERO,
-                in_contact: true,
-                wetted_area: 0.0,
-                force: DVec3::new(1.0, 0.0, fz),
-            });
+            plots.push(&sample(i as f64 * 0.01, fz), 0.5);
         }
-        let [height, .., lift] = plots.decimated(400, 0.03, 0.5);
+        let [height, .., lift] = plots.decimated(400, 0.03);
         assert_eq!(height.len(), 4);
         let g: Vec<f64> = lift.iter().map(|p| p.y).collect();
         assert_eq!(g, [0.0, 4.0, 15.0, 0.0]);
+        // A later step of a heavier stone (gravity changed live) leaves the earlier points as
+        // they were.
+        plots.push(&sample(0.04, 2.0), 1.0);
+        let g: Vec<f64> = plots.decimated(400, 0.04)[3].iter().map(|p| p.y).collect();
+        assert_eq!(g, [0.0, 4.0, 15.0, 0.0, 2.0]);
         // Without gravity there is no weight to measure the lift by.
-        assert!(plots.decimated(400, 0.03, 0.0)[3].is_empty());
+        let mut weightless = PlotSeries::default();
+        weightless.push(&sample(0.0, 1.0), 0.0);
+        assert!(weightless.decimated(400, 0.03)[3].is_empty());
     }
 }
