@@ -25,26 +25,6 @@ use crate::sim::{simulate, Summary};
 use super::fidelity::par_map;
 use super::{check_cancel, Ctx, StudyError};
 
-/// The shipped presets this study runs, as compiled in.
-const AFTER: [(&str, &str); 4] = [
-    (
-        "default",
-        include_str!("../../../assets/presets/default.ron"),
-    ),
-    (
-        "magic_angle",
-        include_str!("../../../assets/presets/magic_angle.ron"),
-    ),
-    (
-        "record_throw",
-        include_str!("../../../assets/presets/record_throw.ron"),
-    ),
-    (
-        "clanet_disc",
-        include_str!("../../../assets/presets/clanet_disc.ron"),
-    ),
-];
-
 /// The whole throws the issue checks.
 pub const THROWS: [&str; 3] = ["default", "magic_angle", "record_throw"];
 
@@ -76,7 +56,7 @@ fn parse(stem: &str, text: &str) -> Result<Preset, StudyError> {
 pub fn preset(model: Model, stem: &str) -> Result<Preset, StudyError> {
     let list: &[(&str, &str)] = match model {
         Model::Before => &super::fidelity::SHIPPED,
-        Model::After => &AFTER,
+        Model::After => &crate::preset::SHIPPED,
     };
     let (_, text) = list
         .iter()
