@@ -129,7 +129,7 @@ pub struct Dynamics<'a> {
     pub record_loads: bool,
     /// The mesh meets the water in the Résal frame ([`mesh_orientation`]).
     pub resal: bool,
-    /// The wetted-extent memory (`physics.wetted_memory` > 0).
+    /// The wetted-extent memory (`physics.wetted_memory`); `None`: the quasi-steady contact.
     pub memory: Option<WettedMemory>,
 }
 
