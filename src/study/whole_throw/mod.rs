@@ -19,7 +19,6 @@ pub mod report;
 use crate::sim::metrics::{throw_shape, ThrowShape};
 use crate::sim::params::{LagLength, MemoryParams, Preset, Rotation, MAX_WATER_COLUMNS};
 use crate::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
-use crate::sim::stone::{orientation_from_attitude, Stone};
 use crate::sim::{simulate, Summary};
 
 use super::fidelity::par_map;
@@ -193,15 +192,7 @@ pub fn tangential_preset(speed: f64) -> Result<Preset, StudyError> {
     p.physics.air = None;
     p.water.enabled = false;
     p.launch.spin = 0.0;
-    let stone = Stone::new(&p.stone)?;
-    let q = orientation_from_attitude(&p.launch.attitude);
-    let lowest = stone
-        .mesh
-        .positions
-        .iter()
-        .map(|&v| (q * v).z)
-        .fold(f64::INFINITY, f64::min);
-    p.launch.position = [0.0, 0.0, 0.0005 - lowest];
+    let mut p = at_impact(&p, speed, 0.0, 0.0005)?;
     p.launch.velocity = [speed, 0.0, TANGENTIAL_VZ];
     Ok(p)
 }
