@@ -68,14 +68,22 @@ fn shipped_names() -> String {
     SHIPPED.map(|(stem, _)| stem).join(", ")
 }
 
+/// The shipped preset `stem` (`default`, `record_throw`, …) as compiled in; `None` for another name.
+pub fn shipped(stem: &str) -> Option<Result<Preset, PresetError>> {
+    SHIPPED
+        .iter()
+        .find(|(s, _)| *s == stem)
+        .map(|(stem, text)| parse(text, Path::new(&format!("assets/presets/{stem}.ron"))))
+}
+
 /// A preset file, or, when no such file exists, the shipped preset of that name (`default`,
 /// `record_throw`, …, with or without `.ron`): what the command line's `--preset` takes.
 pub fn load_file_or_shipped(arg: &Path) -> Result<Preset, PresetError> {
     if !arg.exists() {
         let name = arg.to_string_lossy();
         let stem = name.strip_suffix(".ron").unwrap_or(&name);
-        if let Some((stem, text)) = SHIPPED.iter().find(|(s, _)| *s == stem) {
-            return parse(text, Path::new(&format!("assets/presets/{stem}.ron")));
+        if let Some(preset) = shipped(stem) {
+            return preset;
         }
     }
     load(arg)

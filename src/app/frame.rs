@@ -46,23 +46,12 @@ impl App {
             .viewport_output
             .get(&egui::ViewportId::ROOT)
             .and_then(|v| frame_start.checked_add(v.repaint_delay));
-        for a in actions {
-            model.handle(a);
-        }
+        model.update(actions, real_dt);
         let title = model.title();
         if title != self.title {
             gfx.window.set_title(&title);
             self.title = title;
         }
-
-        // Physics: whole ticks of the accumulated time; then the camera follows its view.
-        model.frame_physics = 0.0;
-        model.frame_water = 0.0;
-        model.advance(real_dt);
-        let copy_start = Instant::now();
-        model.heights.refresh(&model.sim, model.generation);
-        model.frame_water += copy_start.elapsed().as_secs_f64();
-        model.update_camera(real_dt);
 
         // Draw: the scene in the 3D view's rectangle, then the panels over it.
         let render_start = Instant::now();
@@ -171,7 +160,6 @@ impl App {
                 st.full_render += f.render;
             }
         }
-        model.frames += 1;
         self.frames_drawn += 1;
         if self.frames_limit.is_some_and(|n| self.frames_drawn >= n) {
             if self.options.fps_report {

@@ -756,6 +756,23 @@ impl Model {
     /// clock promised but the frame could not run are skipped (the clock does not pile up).
     ///
     /// [`budget`]: Model::budget
+    /// One frame after the panels: the actions they pushed, whole ticks of the accumulated time
+    /// (`real_dt` seconds since the last frame), the water's heights for the renderer, the
+    /// camera. The app's frame and the UI tests both run it.
+    pub fn update(&mut self, actions: Vec<Action>, real_dt: f64) {
+        for a in actions {
+            self.handle(a);
+        }
+        self.frame_physics = 0.0;
+        self.frame_water = 0.0;
+        self.advance(real_dt);
+        let copy_start = Instant::now();
+        self.heights.refresh(&self.sim, self.generation);
+        self.frame_water += copy_start.elapsed().as_secs_f64();
+        self.update_camera(real_dt);
+        self.frames += 1;
+    }
+
     pub fn advance(&mut self, real_dt: f64) {
         self.ticks_last_frame = 0;
         if self.phase == Phase::Ready || self.resting {

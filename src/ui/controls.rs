@@ -55,15 +55,18 @@ pub fn simulation_ui(ui: &mut Ui, c: &mut SimControls, actions: &mut Vec<Action>
         actions.push(Action::Replay);
     }
     ui.separator();
-    ui.label("Speed")
+    let label = ui
+        .label("Playback")
         .on_hover_text("Playback: simulated seconds per real second (below 1: slow motion)");
     ui.add(
         Slider::new(&mut c.speed, 0.01..=4.0)
+            .update_while_editing(false)
             .clamping(SliderClamping::Always)
             .logarithmic(true)
             .custom_parser(super::parse_finite)
             .custom_formatter(|v, _| format!("{v:.2}×")),
-    );
+    )
+    .labelled_by(label.id);
     for fast in [2.0, 4.0] {
         if ui
             .selectable_label((c.speed - fast).abs() < 1e-9, format!("{fast:.0}×"))

@@ -27,6 +27,7 @@ pub fn parse_finite(text: &str) -> Option<f64> {
 
 fn slider<'a>(value: &'a mut f64, range: std::ops::RangeInclusive<f64>) -> Slider<'a> {
     Slider::new(value, range)
+        .update_while_editing(false)
         .clamping(SliderClamping::Always)
         .custom_parser(parse_finite)
 }
@@ -95,20 +96,35 @@ impl Marks {
 /// A row's label, marked (a dot, the mark colour, the preset's value in the tooltip) when one of
 /// its fields `keys` differs from the loaded preset. Returns that value.
 fn label_ui(ui: &mut Ui, marks: &Marks, keys: &[&str], label: &str, tip: &str) -> Option<String> {
+    labelled_row_ui(ui, marks, keys, label, tip).0
+}
+
+/// [`label_ui`], also returning the label's id (what names the row's widget for a screen reader
+/// and for the UI tests).
+fn labelled_row_ui(
+    ui: &mut Ui,
+    marks: &Marks,
+    keys: &[&str],
+    label: &str,
+    tip: &str,
+) -> (Option<String>, egui::Id) {
     let preset = marks.for_row(keys);
-    match &preset {
+    let id = match &preset {
         None => {
             let r = ui.label(label);
-            if !tip.is_empty() {
-                r.on_hover_text(tip);
+            if tip.is_empty() {
+                r.id
+            } else {
+                r.on_hover_text(tip).id
             }
         }
         Some(v) => {
             ui.label(egui::RichText::new(format!("{label} •")).color(MARK_COLOR))
-                .on_hover_text(marked_tip(tip, v));
+                .on_hover_text(marked_tip(tip, v))
+                .id
         }
-    }
-    preset
+    };
+    (preset, id)
 }
 
 /// A labelled row of radio buttons choosing `value` among `options` (value, label); true when
@@ -157,8 +173,10 @@ fn row(
     tip: &str,
     add: impl FnOnce(&mut Ui) -> egui::Response,
 ) -> bool {
-    let preset = label_ui(ui, marks, &[key], label, tip);
-    let mut r = add(ui);
+    let (preset, label_id) = labelled_row_ui(ui, marks, &[key], label, tip);
+    // The row's own id: a banner or warning drawn above it never renumbers its widget (a field
+    // being typed in keeps its focus).
+    let mut r = ui.push_id(key, add).inner.labelled_by(label_id);
     if !tip.is_empty() {
         r = r.on_hover_text(tip);
     }
@@ -261,6 +279,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
         let r = ui.horizontal(|ui| {
             let a = ui.add(
                 egui::DragValue::new(&mut p[0])
+                    .update_while_editing(false)
                     .custom_parser(parse_finite)
                     .range(-50.0..=50.0)
                     .speed(0.05)
@@ -268,6 +287,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
             );
             let b = ui.add(
                 egui::DragValue::new(&mut p[1])
+                    .update_while_editing(false)
                     .custom_parser(parse_finite)
                     .range(-50.0..=50.0)
                     .speed(0.05)
@@ -275,6 +295,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
             );
             let z = ui.add(
                 egui::DragValue::new(&mut p[2])
+                    .update_while_editing(false)
                     .custom_parser(parse_finite)
                     .range(0.0..=5.0)
                     .speed(0.01)
@@ -318,6 +339,7 @@ fn wobble_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
                     c |= ui
                         .add(
                             egui::DragValue::new(&mut launch.angular_velocity[i])
+                                .update_while_editing(false)
                                 .custom_parser(parse_finite)
                                 .range(-100.0..=100.0)
                                 .speed(0.1)
@@ -472,6 +494,7 @@ fn mesh_rows_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
         |ui| {
             ui.add(
                 Slider::new(&mut stone.segments, 8..=128)
+                    .update_while_editing(false)
                     .custom_parser(parse_finite)
                     .clamping(SliderClamping::Always)
                     .suffix(" segments"),
@@ -531,7 +554,7 @@ fn quadrature_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
             ] {
                 let s = ui
                     .add(
-                        egui::DragValue::new(n)
+                        egui::DragValue::new(n).update_while_editing(false)
                             .range(2..=64)
                             .custom_parser(parse_finite)
                             .suffix(suffix),
@@ -560,6 +583,7 @@ fn bands_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
         if let Some(bands) = stone.bands.as_mut() {
             let s = ui.add(
                 Slider::new(bands, 4..=128)
+                    .update_while_editing(false)
                     .custom_parser(parse_finite)
                     .clamping(SliderClamping::Always)
                     .suffix(" bands"),
@@ -1142,6 +1166,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
         );
         ui.add(
             Slider::new(&mut view.ripple_gain, 0.0..=5.0)
+                .update_while_editing(false)
                 .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .suffix("×"),
@@ -1154,6 +1179,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
         );
         ui.add(
             Slider::new(&mut view.render_scale, 0.25..=1.0)
+                .update_while_editing(false)
                 .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .custom_formatter(|v, _| format!("{:.0} %", v * 100.0)),
