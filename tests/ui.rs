@@ -9,6 +9,7 @@ use egui_kittest::kittest::{NodeT as _, Queryable};
 use egui_kittest::Harness;
 use stoneskip::app::{Model, Options};
 use stoneskip::preset;
+use stoneskip::ui::Phase;
 
 /// One frame at 60 fps; a person types about five keys a second, so 12 frames between keys.
 const FRAMES_PER_KEY: usize = 12;
@@ -31,6 +32,8 @@ fn harness(m: Model) -> Harness<'static, Model> {
     Harness::builder()
         .with_size([1280.0, 800.0])
         .with_max_steps(10_000)
+        // As the app does: a glyph no font has (a typed "٣") is drawn as a box.
+        .allow_missing_glyphs()
         .build_ui_state(
             |ui, m: &mut Model| {
                 let mut actions = Vec::new();
@@ -155,4 +158,302 @@ fn the_throw_button_throws_and_the_readouts_show_the_headless_result() {
         readout(&h, "Distance"),
         format!("{:.2} m", headless.distance)
     );
+}
+
+/// splitmix64: the monkey's dice, reproducible from its printed seed.
+struct Dice(u64);
+
+impl Dice {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+    fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
+    }
+}
+
+/// What a monkey types: numbers at and past every edge, nothing, other scripts, a flood.
+fn monkey_strings() -> Vec<String> {
+    let mut s: Vec<String> = [
+        "nan", "NaN", "-0", "1e308", "-1e308", "1e-320", "inf", "-inf", "", "٣", "٣٥", "35", "0",
+        "-5", "0.5", "12", "abc", "1,5", "  7 ", "0x10", "°", "%", "-", ".", "1e", "😀",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    s.push("9".repeat(400));
+    s.push("stone ".repeat(120));
+    s
+}
+
+/// The widgets a person can press, as (role, rect).
+fn pressables(h: &Harness<'_, Model>) -> Vec<(Role, egui::Rect)> {
+    use Role::*;
+    h.root()
+        .query_all(egui_kittest::kittest::by().recursive(true))
+        .filter_map(|n| {
+            let role = n.accesskit_node().role();
+            let wanted = matches!(
+                role,
+                Button
+                    | Slider
+                    | SpinButton
+                    | CheckBox
+                    | RadioButton
+                    | TextInput
+                    | DisclosureTriangle
+                    | ComboBox
+                    | Tab
+                    | MenuItem
+                    | Link
+            );
+            (wanted && !n.accesskit_node().is_disabled()).then(|| (role, n.rect()))
+        })
+        .filter(|(_, r)| r.is_positive() && r.max.x < 1280.0 && r.max.y < 800.0)
+        .collect()
+}
+
+fn press(h: &mut Harness<'_, Model>, at: egui::Pos2, button: egui::PointerButton) {
+    h.hover_at(at);
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button,
+            pressed,
+            modifiers: Default::default(),
+        });
+    }
+}
+
+/// A number a person can read that is not one: Rust's `NaN`, `inf` or `-inf` as a word. What a
+/// person is typing into a focused field is theirs, not a readout (the field refuses it).
+fn non_finite_words(h: &Harness<'_, Model>) -> Vec<String> {
+    let nodes: Vec<_> = h
+        .root()
+        .query_all(egui_kittest::kittest::by().recursive(true))
+        .collect();
+    let typing: Vec<String> = nodes
+        .iter()
+        .filter(|n| n.is_focused())
+        .filter_map(|n| n.accesskit_node().value())
+        .collect();
+    nodes
+        .iter()
+        .filter_map(|n| {
+            let a = n.accesskit_node();
+            let v = a.value()?;
+            let bad = v
+                .split(|c: char| !c.is_alphanumeric())
+                .any(|w| w == "NaN" || w == "inf");
+            (bad && !typing.contains(&v)).then(|| format!("{:?} {:?}: {v}", a.role(), a.label()))
+        })
+        .collect()
+}
+
+/// Every file under `dir` with its bytes.
+fn snapshot(dir: &Path) -> Vec<(std::path::PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_file() {
+                out.push((p.clone(), std::fs::read(&p).expect("readable")));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Runs the current throw (or a new one) to its end by whole ticks, at most `cap`; returns the
+/// number of ticks and the run's summary as JSON with the pose's bits.
+fn finish(m: &mut Model, cap: u64) -> (u64, String) {
+    if m.phase == Phase::Ready {
+        m.throw();
+    }
+    while !m.sim.is_finished() && m.ticks < cap {
+        m.tick_once();
+    }
+    fingerprint(m)
+}
+
+fn fingerprint(m: &Model) -> (u64, String) {
+    let (p, q) = m.sim.world_from_stone();
+    let bits: Vec<u64> = [p.x, p.y, p.z, q.x, q.y, q.z, q.w]
+        .iter()
+        .map(|x| x.to_bits())
+        .collect();
+    let json = serde_json::to_string(&m.sim.summary()).expect("a summary");
+    (m.ticks, format!("{json} {bits:?}"))
+}
+
+/// Thousands of random clicks, drags, keys and typed strings on the real panels. Invariants: no
+/// panic; no NaN or infinity in any readout; the preset files untouched unless saved (and every
+/// saved one whole); Replay bit-exact afterwards. `STONESKIP_MONKEY_SEED` replays a seed,
+/// `STONESKIP_MONKEY_ACTIONS` sets the count (10 000).
+#[test]
+fn a_monkey_cannot_break_the_app() {
+    let seed = std::env::var("STONESKIP_MONKEY_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| {
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(1, |d| d.as_nanos() as u64)
+        });
+    let actions: usize = std::env::var("STONESKIP_MONKEY_ACTIONS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(10_000);
+    println!("monkey seed {seed} ({actions} actions): STONESKIP_MONKEY_SEED={seed} replays it");
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let users = dir.path().join("presets");
+    std::fs::create_dir_all(&users).expect("a presets folder");
+    let lesson = users.join("lesson.ron");
+    std::fs::write(&lesson, preset::SHIPPED[1].1).expect("a user preset");
+    let mut m = model("default", dir.path());
+    m.library.refresh();
+    let shipped_dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/presets");
+    let shipped_before = snapshot(&shipped_dir);
+    let mut h = harness(m);
+    h.run_ok();
+    let mut dice = Dice(seed);
+    let strings = monkey_strings();
+    let keys = {
+        use egui::Key::*;
+        [
+            Space, P, S, R, Num1, Num2, Num3, Num4, Num5, E, F, F1, M, Escape, Enter, Tab,
+            Backspace, ArrowUp, ArrowDown, ArrowLeft, ArrowRight, Delete, Home, End, A,
+        ]
+    };
+    let mut targets = pressables(&h);
+    let t0 = std::time::Instant::now();
+    for i in 0..actions {
+        if i % 20 == 0 {
+            targets = pressables(&h);
+        }
+        let roll = dice.below(100);
+        let anywhere = egui::pos2(dice.unit() * 1280.0, dice.unit() * 800.0);
+        let widget = targets
+            .get(dice.below(targets.len().max(1)))
+            .map(|(_, r)| r.center());
+        match roll {
+            0..=44 => press(
+                &mut h,
+                widget.unwrap_or(anywhere),
+                egui::PointerButton::Primary,
+            ),
+            45..=54 => press(&mut h, anywhere, egui::PointerButton::Primary),
+            55..=57 => press(&mut h, anywhere, egui::PointerButton::Secondary),
+            58..=72 => {
+                h.event(egui::Event::Text(dice.pick(&strings).clone()));
+                if dice.below(2) == 0 {
+                    h.key_press(egui::Key::Enter);
+                }
+            }
+            73..=87 => h.key_press(*dice.pick(&keys)),
+            88..=94 => {
+                let from = widget.unwrap_or(anywhere);
+                let to = egui::pos2(dice.unit() * 1280.0, dice.unit() * 800.0);
+                h.drag_at(from);
+                h.hover_at(from.lerp(to, 0.5));
+                h.drop_at(to);
+            }
+            _ => {
+                h.hover_at(anywhere);
+                h.event(egui::Event::MouseWheel {
+                    unit: egui::MouseWheelUnit::Point,
+                    delta: egui::vec2(0.0, (dice.unit() - 0.5) * 400.0),
+                    phase: egui::TouchPhase::Move,
+                    source: egui::MouseWheelSource::Wheel,
+                    modifiers: Default::default(),
+                });
+            }
+        }
+        h.step();
+        if i % 50 == 0 {
+            let bad = non_finite_words(&h);
+            assert!(bad.is_empty(), "seed {seed}, action {i}: {bad:?}");
+            let (p, q) = h.state().sim.world_from_stone();
+            assert!(
+                p.is_finite() && q.is_finite(),
+                "seed {seed}, action {i}: pose {p} {q}"
+            );
+        }
+    }
+    h.run_ok();
+    println!(
+        "monkey: {actions} actions in {:.0} s, {} throws",
+        t0.elapsed().as_secs_f64(),
+        h.state().throws
+    );
+    let bad = non_finite_words(&h);
+    assert!(bad.is_empty(), "seed {seed}: {bad:?}");
+    assert_eq!(
+        snapshot(&shipped_dir),
+        shipped_before,
+        "seed {seed}: a shipped preset changed"
+    );
+    assert_eq!(
+        std::fs::read(&lesson).expect("still there"),
+        preset::SHIPPED[1].1.as_bytes(),
+        "seed {seed}: a user's preset changed without a save over it"
+    );
+    for (path, _) in snapshot(&users) {
+        assert!(
+            path.extension().is_some_and(|e| e == "ron"),
+            "seed {seed}: a stray file {} (a save left a temporary behind)",
+            path.display()
+        );
+        preset::load(&path)
+            .unwrap_or_else(|e| panic!("seed {seed}: a saved preset is broken: {e}"));
+    }
+    let mut m = h.into_state();
+    let cap = 4_000;
+    let first = finish(&mut m, cap);
+    m.replay();
+    while m.ticks < first.0 {
+        m.tick_once();
+    }
+    assert_eq!(
+        fingerprint(&m),
+        first,
+        "seed {seed}: Replay is not bit-exact"
+    );
+}
+
+/// A gravity typed as "1e-320" (subnormal, inside the slider's 0–30 m/s²) once showed peak
+/// lifts of `inf` g in the contacts table; every readout stays a number.
+#[test]
+fn a_subnormal_gravity_shows_no_infinity() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness(model("magic_angle", dir.path()));
+    h.run_ok();
+    h.get_by_role_and_label(Role::DisclosureTriangle, "Physics")
+        .click();
+    h.run_ok();
+    type_into(&mut h, "Gravity", "1e-320");
+    assert!(h.state().edit.physics.gravity > 0.0 && h.state().edit.physics.gravity < 1e-300);
+    // Without weight the stone flies straight: thrown down, so that it meets the water.
+    type_into(&mut h, "Elevation", "-10");
+    h.get_by_role_and_label(Role::Button, "Throw").click();
+    for _ in 0..600 {
+        h.step();
+    }
+    assert!(
+        !h.state().sim.contacts().is_empty(),
+        "the stone touched the water"
+    );
+    let bad = non_finite_words(&h);
+    assert!(bad.is_empty(), "{bad:?}");
 }

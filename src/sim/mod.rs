@@ -139,9 +139,10 @@ pub struct ContactEvent {
 }
 
 impl ContactEvent {
-    /// `peak_lift` as a multiple of the weight when the contact began; `None` without gravity.
+    /// `peak_lift` as a multiple of the weight when the contact began; `None` without gravity
+    /// (or with so little that the ratio overflows).
     pub fn peak_g(&self) -> Option<f64> {
-        (self.weight > 0.0).then(|| self.peak_lift / self.weight)
+        Some(self.peak_lift / self.weight).filter(|g| self.weight > 0.0 && g.is_finite())
     }
 }
 
@@ -2197,6 +2198,9 @@ mod tests {
         }
         let mut weightless = s.contacts[0];
         weightless.weight = 0.0;
+        assert_eq!(weightless.peak_g(), None);
+        // A subnormal gravity (typed "1e-320"): the ratio would overflow to infinity.
+        weightless.weight = 1e-320;
         assert_eq!(weightless.peak_g(), None);
     }
 

@@ -186,6 +186,7 @@ pub fn view_ui(
                 }
             })
             .response
+            .accessible_name("Vertical exaggeration")
             .on_hover_text("Vertical exaggeration of the side view (E cycles)");
         if k != exaggeration {
             actions.push(Action::Exaggerate(k));

@@ -54,8 +54,9 @@ impl PlotSeries {
         self.height.push(PlotPoint::new(s.time, p.z));
         self.speed.push(PlotPoint::new(s.time, v.length()));
         self.area.push(PlotPoint::new(s.time, s.wetted_area * 1e4));
-        if weight > 0.0 {
-            self.lift.push(PlotPoint::new(s.time, s.force.z / weight));
+        let g = s.force.z / weight;
+        if weight > 0.0 && g.is_finite() {
+            self.lift.push(PlotPoint::new(s.time, g));
         }
         if self.height.len() > Self::MAX_POINTS {
             for series in [
@@ -545,6 +546,8 @@ mod tests {
         // Without gravity there is no weight to measure the lift by.
         let mut weightless = PlotSeries::default();
         weightless.push(&sample(0.0, 1.0), 0.0);
+        // A subnormal gravity typed into the slider: the ratio overflows, and is not drawn.
+        weightless.push(&sample(0.01, 1.0), 1e-320);
         assert!(weightless.decimated(400, 0.03)[3].is_empty());
     }
 }

@@ -612,14 +612,14 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
             "ρ of the water",
             |ui| ui.add(slider(&mut physics.water_density, 100.0..=3000.0).suffix(" kg/m³")),
         );
-        label_ui(
+        let label = labelled_row_ui(
             ui,
             marks,
             &["force law"],
             "Force law",
             "Rosellini: pressure C_l ρ U max(0, v_n) S (puts the magic angle near 20°); Paper: ½ C_l ρ v_n² S; \
              Bocquet: ½ C_l ρ U² S (his 2D model)",
-        );
+        ).1;
         let before = physics.force_law;
         egui::ComboBox::from_id_salt("force_law")
             .selected_text(format!("{:?}", physics.force_law))
@@ -627,7 +627,9 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 for law in ForceLaw::ALL {
                     ui.selectable_value(&mut physics.force_law, law, format!("{law:?}"));
                 }
-            });
+            })
+            .response
+            .labelled_by(label);
         ui.end_row();
         c |= before != physics.force_law;
         let (dl, df) = physics.force_law.default_coefficients();
@@ -647,19 +649,22 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
             df,
             0.0..=2.0,
         );
-        label_ui(
+        let label = labelled_row_ui(
             ui,
             marks,
             &["ventilated"],
             "Ventilated",
             "Pressure and friction only on faces advancing into the water (the rear sits in an air cavity)",
-        );
-        c |= ui.checkbox(&mut physics.ventilated, "").changed();
+        ).1;
+        c |= ui
+            .checkbox(&mut physics.ventilated, "")
+            .labelled_by(label)
+            .changed();
         ui.end_row();
         c |= loading_options_ui(ui, physics, marks);
         c |= memory_ui(ui, physics, marks);
         c |= air_ui(ui, physics, marks);
-        label_ui(ui, marks, &["integrator"], "Integrator", "");
+        let label = labelled_row_ui(ui, marks, &["integrator"], "Integrator", "").1;
         let before = physics.integrator;
         egui::ComboBox::from_id_salt("integrator")
             .selected_text(format!("{:?}", physics.integrator))
@@ -667,7 +672,9 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 for i in Integrator::ALL {
                     ui.selectable_value(&mut physics.integrator, i, format!("{i:?}"));
                 }
-            });
+            })
+            .response
+            .labelled_by(label);
         ui.end_row();
         c |= before != physics.integrator;
         if physics.integrator == Integrator::Adaptive {
@@ -679,15 +686,19 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 "Adaptive's relative error per step",
                 |ui| ui.add(slider(&mut physics.tolerance, 1e-10..=1e-3).logarithmic(true)),
             );
-            label_ui(
+            let label = labelled_row_ui(
                 ui,
                 marks,
                 &["steps across ticks"],
                 "Steps across ticks",
                 "Contact steps may end past the tick when no water takes the stone's loads (water \
                  off): fewer force evaluations, the stone up to one step ahead of the tick",
-            );
-            c |= ui.checkbox(&mut physics.steps_across_ticks, "").changed();
+            )
+            .1;
+            c |= ui
+                .checkbox(&mut physics.steps_across_ticks, "")
+                .labelled_by(label)
+                .changed();
             ui.end_row();
         }
         c |= choice_row_ui(
@@ -793,12 +804,13 @@ fn coefficient_row(
     range: std::ops::RangeInclusive<f64>,
 ) -> bool {
     let [key, name, tip] = field;
-    label_ui(ui, marks, &[key], name, tip);
+    let label = labelled_row_ui(ui, marks, &[key], name, tip).1;
     let mut changed = false;
     ui.horizontal(|ui| {
         let mut custom = value.is_some();
         if ui
             .checkbox(&mut custom, "")
+            .labelled_by(label)
             .on_hover_text(format!("Set it; unchecked: the law's default {default}"))
             .changed()
         {
@@ -908,13 +920,13 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
             .checkbox(&mut water.diagonal_pipes, "diagonals (isotropic)")
             .changed();
         ui.end_row();
-        label_ui(
+        let label = labelled_row_ui(
             ui,
             marks,
             &["limiter"],
             "Limiter",
             "MassConserving: exact volume, never negative (Mei et al.). PaperClamp: eq. 41, creates water",
-        );
+        ).1;
         let before = water.limiter;
         egui::ComboBox::from_id_salt("limiter")
             .selected_text(format!("{:?}", water.limiter))
@@ -925,23 +937,27 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
                     "MassConserving",
                 );
                 ui.selectable_value(&mut water.limiter, Limiter::PaperClamp, "PaperClamp");
-            });
+            })
+            .response
+            .labelled_by(label);
         ui.end_row();
         c |= before != water.limiter;
-        label_ui(
+        let label = labelled_row_ui(
             ui,
             marks,
             &["precision"],
             "Precision",
             "Storage of depths and flows: F32 halves the memory traffic; F64 conserves volume to rounding",
-        );
+        ).1;
         let before = water.precision;
         egui::ComboBox::from_id_salt("precision")
             .selected_text(format!("{:?}", water.precision))
             .show_ui(ui, |ui| {
                 ui.selectable_value(&mut water.precision, Precision::F32, "F32");
                 ui.selectable_value(&mut water.precision, Precision::F64, "F64");
-            });
+            })
+            .response
+            .labelled_by(label);
         ui.end_row();
         c |= before != water.precision;
         c
@@ -954,19 +970,20 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
 /// The columns' longest step: unchecked, the automatic one under the Courant limit; checked, at
 /// most the slider's (fidelity study §11 refines it with the tick).
 fn max_step_row(ui: &mut Ui, marks: &Marks, max_step: &mut Option<f64>) -> bool {
-    label_ui(
+    let label = labelled_row_ui(
         ui,
         marks,
         &["max step"],
         "Water step",
         "The columns' longest step. Unchecked: 70 % of the Courant limit. A shorter step is always \
          stable, costs more, and lets the water answer the stone sooner (fidelity study §11)",
-    );
+    ).1;
     let mut changed = false;
     ui.horizontal(|ui| {
         let mut capped = max_step.is_some();
         if ui
             .checkbox(&mut capped, "")
+            .labelled_by(label)
             .on_hover_text("At most this step; unchecked: the automatic step")
             .changed()
         {
@@ -1034,13 +1051,14 @@ fn near_field_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
     let sp = &mut water.spectral;
     changed |= grid(ui, "near field", |ui| {
         let mut c = false;
-        label_ui(
+        let label = labelled_row_ui(
             ui,
             marks,
             &["spectral.cells"],
             "Patch cells",
             "Cells along each side (a power of two): the FFT's cost grows as n² log n",
-        );
+        )
+        .1;
         let before = sp.cells;
         egui::ComboBox::from_id_salt("spectral cells")
             .selected_text(sp.cells.to_string())
@@ -1048,7 +1066,9 @@ fn near_field_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
                 for n in [16, 32, 64, 128, 256, 512, 1024] {
                     ui.selectable_value(&mut sp.cells, n, n.to_string());
                 }
-            });
+            })
+            .response
+            .labelled_by(label);
         ui.end_row();
         c |= before != sp.cells;
         c |= row(
@@ -1190,7 +1210,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
 /// The wetted-extent memory (issue 38, `sim/memory.rs`): on or off, its λ and its length.
 fn memory_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut c = false;
-    label_ui(
+    let label = labelled_row_ui(
         ui,
         marks,
         &["wetted memory"],
@@ -1200,9 +1220,10 @@ fn memory_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
          time the water takes to pass under it: a Wagner strip, docs/studies/wagner_lag). This is \
          what breaks up planing at speed (Hewitt et al. 2011) and makes whole throws converge. \
          Off: the quasi-steady contact of the paper; fast throws then end in a long glide.",
-    );
+    )
+    .1;
     let mut on = physics.wetted_memory.is_some();
-    if ui.checkbox(&mut on, "").changed() {
+    if ui.checkbox(&mut on, "").labelled_by(label).changed() {
         physics.wetted_memory = on.then(MemoryParams::default);
         c = true;
     }
@@ -1233,7 +1254,7 @@ fn memory_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
 /// The air in flight (`air.rs`): on or off, and its density and coefficients when on.
 fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut c = false;
-    label_ui(
+    let label = labelled_row_ui(
         ui,
         marks,
         &["air"],
@@ -1241,9 +1262,10 @@ fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         "Lift, drag and the pitching moment of a spinning disc between contacts (Crowther & Potts \
          2007; Hummel 2003's coefficients, a lens has no camber). The moment rolls a slowly spun \
          stone in the air. Off: a vacuum, the paper's parabola.",
-    );
+    )
+    .1;
     let mut on = physics.air.is_some();
-    if ui.checkbox(&mut on, "").changed() {
+    if ui.checkbox(&mut on, "").labelled_by(label).changed() {
         physics.air = on.then(AirParams::default);
         c = true;
     }
@@ -1325,14 +1347,17 @@ fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool
             ],
         );
     }
-    label_ui(
+    let label = labelled_row_ui(
         ui,
         marks,
         &["buoyancy"],
         "Buoyancy",
         "Hydrostatic pressure ρ g d on the wetted faces (Archimedes): matters once the stone is deep",
-    );
-    c |= ui.checkbox(&mut physics.buoyancy, "").changed();
+    ).1;
+    c |= ui
+        .checkbox(&mut physics.buoyancy, "")
+        .labelled_by(label)
+        .changed();
     ui.end_row();
     if physics.buoyancy {
         c |= choice_row_ui(
