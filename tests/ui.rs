@@ -457,3 +457,55 @@ fn a_subnormal_gravity_shows_no_infinity() {
     let bad = non_finite_words(&h);
     assert!(bad.is_empty(), "{bad:?}");
 }
+
+/// The Experiments window: a tilt sweep of six throws runs in the background, its table fills,
+/// Watch loads one throw and the view's run gives the same skips and distance as the sweep's;
+/// the table exports as CSV.
+#[test]
+fn an_experiment_sweeps_tilt_and_watch_replays_a_point() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness(model("magic_angle", dir.path()));
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Experiments").click();
+    h.run_ok();
+    type_into(&mut h, "Throws", "6");
+    assert_eq!(h.state().experiment_draft.count, 6);
+    h.get_by_role_and_label(Role::Button, "Run the experiment")
+        .click();
+    let t0 = std::time::Instant::now();
+    while h.state().experiment.as_ref().is_none_or(|e| !e.finished()) {
+        assert!(t0.elapsed().as_secs() < 120, "the sweep did not finish");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        h.step();
+    }
+    pause(&mut h, 3);
+    let watch: Vec<egui::Rect> = h
+        .query_all_by_role_and_label(Role::Button, "Watch")
+        .map(|n| n.rect())
+        .collect();
+    assert_eq!(watch.len(), 6, "one row per throw");
+    let e = h.state().experiment.as_ref().expect("an experiment");
+    let point = e.points[2].clone().expect("a result");
+    let tilts: Vec<f64> = e
+        .presets
+        .iter()
+        .map(|p| p.launch.attitude.tilt_deg)
+        .collect();
+    assert_eq!(tilts[0], 0.0);
+    assert_eq!(tilts[5], 45.0);
+    press(&mut h, watch[2].center(), egui::PointerButton::Primary);
+    h.step();
+    assert_eq!(h.state().edit.launch.attitude.tilt_deg, tilts[2]);
+    until_outcome(&mut h, 5_000);
+    let s = h.state().sim.summary();
+    assert_eq!((s.skips, s.distance), (point.skips, point.distance));
+    h.get_by_role_and_label(Role::Button, "Export CSV").click();
+    h.run_ok();
+    let csv: Vec<_> = std::fs::read_dir(dir.path().join("exports"))
+        .expect("an exports folder")
+        .flatten()
+        .collect();
+    assert_eq!(csv.len(), 1);
+    let text = std::fs::read_to_string(csv[0].path()).expect("the CSV");
+    assert_eq!(text.lines().filter(|l| !l.starts_with('#')).count(), 7);
+}

@@ -15,6 +15,8 @@
 
 pub mod clock;
 pub mod edits;
+mod experiment_panel;
+pub mod experiments;
 pub mod files;
 mod frame;
 pub mod lake;
@@ -51,6 +53,11 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
     let mut model = Model::new(initial, source, options.clone())?;
     if options.autothrow {
         model.throw();
+    }
+    if let Some(knob) = options.experiment {
+        model.show_experiments = true;
+        model.experiment_draft = experiments::Spec::suggested(knob);
+        model.handle(crate::ui::Action::RunExperiment);
     }
     let event_loop = EventLoop::new().map_err(|e| {
         let why = e.to_string();

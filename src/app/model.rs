@@ -11,6 +11,7 @@ use anyhow::{Context as _, Result};
 use glam::{DQuat, DVec3, Vec2, Vec3};
 
 use super::clock::FixedClock;
+use super::experiments::{Experiment, Knob, Spec};
 use super::files;
 use super::lake::{self, Rect};
 use super::options::Options;
@@ -430,6 +431,12 @@ pub struct Model {
     /// A throw gesture in progress: where it started (points).
     pub gesture: Option<egui::Pos2>,
     pub out_dir: PathBuf,
+    /// The Experiments window: shown, the sweep being edited, the last one run and the point
+    /// whose throw was loaded.
+    pub show_experiments: bool,
+    pub experiment_draft: Spec,
+    pub experiment: Option<Experiment>,
+    pub experiment_chosen: Option<usize>,
 }
 
 impl Model {
@@ -495,6 +502,10 @@ impl Model {
             show_about: false,
             gesture: None,
             out_dir: files::output_dir(options.output_dir.as_deref()),
+            show_experiments: false,
+            experiment_draft: Spec::suggested(Knob::Tilt),
+            experiment: None,
+            experiment_chosen: None,
         };
         if let Some(s) = options.render_scale {
             m.view.render_scale = s;
@@ -762,6 +773,9 @@ impl Model {
     pub fn update(&mut self, actions: Vec<Action>, real_dt: f64) {
         for a in actions {
             self.handle(a);
+        }
+        if let Some(e) = self.experiment.as_mut() {
+            e.poll();
         }
         self.frame_physics = 0.0;
         self.frame_water = 0.0;
@@ -1076,7 +1090,43 @@ impl Model {
             Action::PhysicsEdited => self.physics_edited(),
             Action::FitLake => self.fit_lake(),
             Action::Revert(section) => self.revert(section),
+            Action::RunExperiment => {
+                self.experiment_chosen = None;
+                self.experiment = Some(Experiment::start(&self.edit, self.experiment_draft));
+            }
+            Action::StopExperiment => {
+                if let Some(e) = &self.experiment {
+                    e.stop();
+                }
+            }
+            Action::LoadExperimentPoint(i) => self.load_experiment_point(i),
+            Action::ExportExperiment => self.export_experiment(),
         }
+    }
+
+    /// Loads the experiment's throw `i` into the settings and throws it (the same preset the
+    /// background ran, so the same result).
+    fn load_experiment_point(&mut self, i: usize) {
+        let Some(p) = self.experiment.as_ref().and_then(|e| e.presets.get(i)) else {
+            return;
+        };
+        self.edit = p.clone();
+        self.experiment_chosen = Some(i);
+        self.scene_edited();
+        self.throw();
+    }
+
+    fn export_experiment(&mut self) {
+        let Some(e) = &self.experiment else {
+            return;
+        };
+        let name = format!("{}-{}", self.edit.name, e.spec.knob.name().to_lowercase());
+        let path = files::output_path(&self.out_dir, &name, "csv");
+        let message = match e.write_csv(&path, &self.edit.name) {
+            Ok(()) => Message::info(format!("experiment written to {}", path.display())),
+            Err(e) => Message::error(format!("experiment export failed: {e:#}")),
+        };
+        self.post(message);
     }
 
     fn step(&mut self) {

@@ -16,6 +16,7 @@
 //! | `STONESKIP_SOAK=N` | the soak: N automatic throws, cycling through the shipped presets |
 //! | `STONESKIP_SOAK_UNTIL=outcome` | a soak throw ends at its outcome, not when the app rests |
 //! | `STONESKIP_SOAK_CSV=FILE` | where the soak writes its per-throw rows (default `stoneskip-soak.csv`) |
+//! | `STONESKIP_EXPERIMENT=speed\|tilt\|spin\|height\|mass` | opens Experiments and runs that value's suggested sweep at start |
 //! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost`, `gpu_error` |
 
 use std::path::PathBuf;
@@ -43,6 +44,8 @@ pub struct Options {
     pub soak_until_outcome: bool,
     /// GPU faults to inject, in frame order.
     pub faults: Vec<Fault>,
+    /// The experiment to run at start.
+    pub experiment: Option<super::experiments::Knob>,
 }
 
 /// A GPU fault the app injects into itself (`STONESKIP_FAULT`), to test its recovery.
@@ -79,6 +82,7 @@ impl Default for Options {
             soak_csv: PathBuf::from("stoneskip-soak.csv"),
             soak_until_outcome: false,
             faults: Vec::new(),
+            experiment: None,
         }
     }
 }
@@ -122,6 +126,11 @@ impl Options {
                 .filter(|v| !v.trim().is_empty())
                 .map_or(d.soak_csv, PathBuf::from),
             soak_until_outcome: get("STONESKIP_SOAK_UNTIL").is_some_and(|v| v.trim() == "outcome"),
+            experiment: get("STONESKIP_EXPERIMENT").and_then(|v| {
+                super::experiments::Knob::ALL
+                    .into_iter()
+                    .find(|k| k.name().eq_ignore_ascii_case(v.trim()))
+            }),
             faults: get("STONESKIP_FAULT")
                 .map(|v| parse_faults(&v))
                 .unwrap_or_default(),

@@ -107,6 +107,26 @@ impl Model {
             self.view_overlay_ui(ui, actions);
         });
         self.windows_ui(&ctx);
+        self.experiments_window_ui(&ctx, actions);
+    }
+
+    fn experiments_window_ui(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+        let mut open = self.show_experiments;
+        let at = self.view_rect.right_top() + egui::vec2(-450.0, 40.0);
+        egui::Window::new(RichText::new("Experiments").strong())
+            .open(&mut open)
+            .default_pos(at)
+            .default_width(430.0)
+            .show(ctx, |ui| {
+                super::experiment_panel::experiments_ui(
+                    ui,
+                    &mut self.experiment_draft,
+                    self.experiment.as_ref(),
+                    self.experiment_chosen,
+                    actions,
+                );
+            });
+        self.show_experiments = open;
     }
 
     fn shortcuts_ui(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
@@ -151,6 +171,9 @@ impl Model {
             if k(Key::M) {
                 self.show_about = !self.show_about;
             }
+            if k(Key::X) {
+                self.show_experiments = !self.show_experiments;
+            }
             if k(Key::Escape) {
                 self.show_help = false;
                 self.show_about = false;
@@ -193,6 +216,13 @@ impl Model {
                 }
                 if ui.button("About the model").on_hover_text("M").clicked() {
                     self.show_about = !self.show_about;
+                }
+                if ui
+                    .selectable_label(self.show_experiments, "Experiments")
+                    .on_hover_text("X: throw many times, changing one thing, and chart the results")
+                    .clicked()
+                {
+                    self.show_experiments = !self.show_experiments;
                 }
             });
             ui.add_space(2.0);

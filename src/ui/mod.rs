@@ -59,6 +59,12 @@ pub enum Action {
     FitLake,
     /// Put one settings panel back to the loaded preset's values.
     Revert(Section),
+    /// Experiments: throw the sweep being edited in the background.
+    RunExperiment,
+    StopExperiment,
+    /// Load the experiment's throw of this index into the settings and throw it.
+    LoadExperimentPoint(usize),
+    ExportExperiment,
 }
 
 /// A settings panel that edits one section of the preset.

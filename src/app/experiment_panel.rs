@@ -1,0 +1,263 @@
+//! The Experiments window: choose a launch value and a range, throw them all in the background,
+//! watch skips and distance against the value as results arrive, click a point (or a row) to
+//! load and watch that throw, export the table as CSV. Plain egui on
+//! [`super::experiments`]; the model applies the actions.
+
+use egui::{Color32, RichText, Ui};
+use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
+
+use super::experiments::{Experiment, Knob, Point, Spec, MAX_THROWS};
+use crate::ui::Action;
+
+const SKIPS: Color32 = Color32::from_rgb(255, 200, 90);
+const DISTANCE: Color32 = Color32::from_rgb(120, 200, 255);
+const CHOSEN: Color32 = Color32::from_rgb(255, 110, 110);
+
+/// The whole window's contents. `chosen` is the point whose throw the view shows.
+pub fn experiments_ui(
+    ui: &mut Ui,
+    draft: &mut Spec,
+    experiment: Option<&Experiment>,
+    chosen: Option<usize>,
+    actions: &mut Vec<Action>,
+) {
+    ui.label(
+        "Throw the stone many times, changing one thing, with the physics as it is now. \
+         Each dot is one throw: click it to watch that throw.",
+    );
+    let busy = experiment.is_some_and(running);
+    if busy {
+        // The app sleeps when nothing moves: wake it to take and draw the results.
+        ui.ctx()
+            .request_repaint_after(std::time::Duration::from_millis(100));
+    }
+    spec_ui(ui, draft, busy, actions);
+    let Some(e) = experiment else {
+        return;
+    };
+    ui.separator();
+    progress_ui(ui, e);
+    let k = e.spec.knob;
+    for (name, axis, color, value) in [
+        (
+            "Skips",
+            "skips",
+            SKIPS,
+            (|p| p.skips as f64) as fn(&Point) -> f64,
+        ),
+        ("Distance", "distance (m)", DISTANCE, |p| p.distance),
+    ] {
+        if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), value) {
+            actions.push(Action::LoadExperimentPoint(i));
+        }
+    }
+    ui.horizontal(|ui| {
+        ui.weak(format!("{} ({})", k.name(), k.unit()));
+        if ui
+            .add_enabled(e.done() > 0, egui::Button::new("Export CSV"))
+            .on_hover_text("The table below as a CSV file, in the exports folder")
+            .clicked()
+        {
+            actions.push(Action::ExportExperiment);
+        }
+    });
+    table_ui(ui, e, chosen, actions);
+}
+
+fn running(e: &Experiment) -> bool {
+    !e.finished() && !e.stopped()
+}
+
+/// What to vary, its range and the number of throws; Run or Stop.
+fn spec_ui(ui: &mut Ui, draft: &mut Spec, busy: bool, actions: &mut Vec<Action>) {
+    egui::Grid::new("experiment spec")
+        .num_columns(2)
+        .spacing([10.0, 6.0])
+        .show(ui, |ui| {
+            let label = ui.label("Vary").id;
+            let before = draft.knob;
+            egui::ComboBox::from_id_salt("experiment knob")
+                .selected_text(format!("{} ({})", draft.knob.name(), draft.knob.unit()))
+                .show_ui(ui, |ui| {
+                    for k in Knob::ALL {
+                        ui.selectable_value(
+                            &mut draft.knob,
+                            k,
+                            format!("{} ({})", k.name(), k.unit()),
+                        );
+                    }
+                })
+                .response
+                .labelled_by(label);
+            if draft.knob != before {
+                *draft = Spec {
+                    count: draft.count,
+                    ..Spec::suggested(draft.knob)
+                };
+            }
+            ui.end_row();
+            let (lo, hi) = draft.knob.range();
+            let label = ui.label("From").id;
+            ui.horizontal(|ui| {
+                for (value, name) in [(&mut draft.from, "from"), (&mut draft.to, "to")] {
+                    ui.add(
+                        egui::DragValue::new(value)
+                            .range(lo..=hi)
+                            .speed((hi - lo) / 200.0)
+                            .custom_parser(crate::ui::parse_finite)
+                            .update_while_editing(false)
+                            .suffix(format!(" {}", draft.knob.unit())),
+                    )
+                    .labelled_by(label)
+                    .on_hover_text(format!("The sweep's {name} value"));
+                    if name == "from" {
+                        ui.label("to");
+                    }
+                }
+            });
+            ui.end_row();
+            let label = ui.label("Throws").id;
+            ui.add(
+                egui::Slider::new(&mut draft.count, 2..=MAX_THROWS)
+                    .clamping(egui::SliderClamping::Always)
+                    .logarithmic(true)
+                    .update_while_editing(false),
+            )
+            .labelled_by(label);
+            ui.end_row();
+        });
+    ui.horizontal(|ui| {
+        if busy {
+            if ui.button("Stop").clicked() {
+                actions.push(Action::StopExperiment);
+            }
+        } else if ui
+            .button(RichText::new("Run the experiment").strong())
+            .on_hover_text("Throws them all in the background, on every core but the view's")
+            .clicked()
+        {
+            actions.push(Action::RunExperiment);
+        }
+    });
+}
+
+fn progress_ui(ui: &mut Ui, e: &Experiment) {
+    let (done, n) = (e.done(), e.points.len());
+    let state = if e.finished() {
+        format!("{n} throws in {:.1} s", e.elapsed)
+    } else if e.stopped() {
+        format!("stopped: {done} of {n} thrown")
+    } else {
+        format!("{done} of {n} thrown ({:.1} s)…", e.elapsed)
+    };
+    ui.add(egui::ProgressBar::new(done as f32 / n.max(1) as f32).text(state));
+}
+
+/// One chart of the results against the value; returns the point clicked.
+fn chart_ui(
+    ui: &mut Ui,
+    e: &Experiment,
+    chosen: Option<usize>,
+    (name, axis, color): (&str, &str, Color32),
+    value: fn(&Point) -> f64,
+) -> Option<usize> {
+    let pts: Vec<[f64; 2]> = e
+        .points
+        .iter()
+        .flatten()
+        .map(|p| [p.value, value(p)])
+        .collect();
+    let (lo, hi) = (e.spec.from.min(e.spec.to), e.spec.from.max(e.spec.to));
+    let chosen_pt = chosen
+        .and_then(|i| e.points.get(i).cloned().flatten())
+        .map(|p| [p.value, value(&p)]);
+    let response = Plot::new(("experiment", name))
+        .height(110.0)
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .allow_boxed_zoom(false)
+        .include_x(lo)
+        .include_x(hi)
+        .include_y(0.0)
+        .y_axis_label(axis)
+        .show(ui, |plot| {
+            plot.line(
+                Line::new(name, PlotPoints::from(pts.clone())).color(color.gamma_multiply(0.6)),
+            );
+            plot.points(
+                Points::new(name, PlotPoints::from(pts))
+                    .color(color)
+                    .radius(3.5)
+                    .shape(MarkerShape::Circle)
+                    .filled(true),
+            );
+            if let Some(c) = chosen_pt {
+                plot.points(
+                    Points::new("chosen", PlotPoints::from(vec![c]))
+                        .color(CHOSEN)
+                        .radius(6.0)
+                        .filled(false),
+                );
+            }
+        });
+    let r = response
+        .response
+        .on_hover_text("Click a dot to watch that throw");
+    if !r.clicked() {
+        return None;
+    }
+    let at = r.interact_pointer_pos()?;
+    let x = response.transform.value_from_position(at).x;
+    e.points
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| p.as_ref().map(|p| (i, (p.value - x).abs())))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(i, _)| i)
+}
+
+/// The results as a table; each row's button loads that throw.
+fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Vec<Action>) {
+    let k = e.spec.knob;
+    egui::ScrollArea::vertical()
+        .min_scrolled_height(150.0)
+        .max_height(220.0)
+        .id_salt("experiment table")
+        .show(ui, |ui| {
+            egui::Grid::new("experiment results")
+                .num_columns(5)
+                .striped(true)
+                .spacing([12.0, 2.0])
+                .show(ui, |ui| {
+                    ui.strong(format!("{} ({})", k.name(), k.unit()));
+                    ui.strong("skips");
+                    ui.strong("distance (m)");
+                    ui.strong("outcome");
+                    ui.label("");
+                    ui.end_row();
+                    for (i, p) in e.points.iter().enumerate() {
+                        let Some(p) = p else { continue };
+                        let text = |s: String| {
+                            if chosen == Some(i) {
+                                RichText::new(s).color(CHOSEN)
+                            } else {
+                                RichText::new(s)
+                            }
+                        };
+                        ui.monospace(text(format!("{:.3}", p.value)));
+                        ui.monospace(text(p.skips.to_string()));
+                        ui.monospace(text(format!("{:.2}", p.distance)));
+                        ui.label(text(p.outcome.clone()));
+                        if ui
+                            .small_button("Watch")
+                            .on_hover_text("Load this throw's settings and throw it")
+                            .clicked()
+                        {
+                            actions.push(Action::LoadExperimentPoint(i));
+                        }
+                        ui.end_row();
+                    }
+                });
+        });
+}
