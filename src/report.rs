@@ -21,7 +21,14 @@ pub const CSV_FLIGHT_INTERVAL: f64 = 1.0 / 240.0;
 /// Human-readable summary with a table of contacts.
 pub fn text_summary(s: &Summary) -> String {
     let mut out = String::new();
-    let outcome = s.outcome.map_or("running", |o| o.as_str());
+    // In words, with the JSON's name where they differ ("left the lake (left_domain)").
+    let outcome = s.outcome.map_or("running".to_owned(), |o| {
+        if o.words() == o.as_str() {
+            o.words().to_owned()
+        } else {
+            format!("{} ({})", o.words(), o.as_str())
+        }
+    });
     out.push_str(&format!("{}\n", s.name));
     out.push_str(&format!(
         "outcome {outcome}, {} skip{}, distance {:.3} m, time {:.4} s ({} steps, {} force evaluations)\n",
@@ -251,5 +258,23 @@ mod tests {
         let v: serde_json::Value = serde_json::from_str(&json_summary(&ok).unwrap()).unwrap();
         assert!(v["diverged_reason"].is_null());
         assert!(!text_summary(&ok).contains("diverged"));
+    }
+
+    /// The text says what happened in words, with the JSON's name beside it where they differ
+    /// (issue 39: the CLI read `left_domain` where the app says "left the lake").
+    #[test]
+    fn the_text_outcome_is_in_words() {
+        let mut s = diverged();
+        s.diverged_reason = None;
+        s.outcome = Some(Outcome::LeftDomain);
+        let text = text_summary(&s);
+        assert!(
+            text.contains("outcome left the lake (left_domain),"),
+            "{text}"
+        );
+        s.outcome = Some(Outcome::Sank);
+        assert!(text_summary(&s).contains("outcome sank,"));
+        s.outcome = Some(Outcome::Timeout);
+        assert!(text_summary(&s).contains("still going at the time limit (timeout)"));
     }
 }

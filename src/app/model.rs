@@ -72,23 +72,7 @@ pub fn rest_due(finished: bool, since_outcome: f64, max_abs_eta: Option<f64>) ->
 
 /// An outcome in words a person reads.
 pub fn outcome_words(o: Outcome) -> String {
-    let s = o.as_str();
-    match s {
-        "sank" => "sank".to_owned(),
-        "left_domain" => "left the lake".to_owned(),
-        "timeout" => "still going at the time limit".to_owned(),
-        other if other.starts_with("diverged") => {
-            let why = other
-                .trim_start_matches("diverged")
-                .trim_start_matches([':', ' ', '_']);
-            if why.is_empty() {
-                "diverged (the numbers stopped being finite)".to_owned()
-            } else {
-                format!("diverged: {}", why.replace('_', " "))
-            }
-        }
-        other => other.replace('_', " "),
-    }
+    o.words().to_owned()
 }
 
 /// Largest stable tick and largest within 1 % of each fixed-step integrator on the default stone
@@ -102,23 +86,27 @@ pub fn stable_step(integrator: Integrator) -> Option<(f64, f64)> {
     }
 }
 
-/// Warnings for setups that run but are implausible or unreliable.
+/// Warnings for setups that run but are implausible or unreliable: each one plain sentence on
+/// what it means and what to do (the app cannot open the studies they rest on, so they name none).
 pub fn setup_warnings(p: &Preset) -> Vec<String> {
     let mut w = Vec::new();
     let dt = p.physics.dt;
+    let ms = dt * 1e3;
+    // The stability study's table A (docs/studies/stability): past the stable step a fixed-step
+    // integrator's contact bounces super-elastically; past the accurate one it is off by over 1 %.
     if let Some((stable, accurate)) = stable_step(p.physics.integrator) {
         if dt > stable {
             w.push(format!(
-                "dt = {:.2} ms is above {:?}'s stable step ({:.2} ms on the default stone, stability \
-                 study): contacts may bounce super-elastically",
-                dt * 1e3,
+                "The time step ({ms:.2} ms) is too long for the {:?} integrator: bounces may gain \
+                 energy. Lower the time step below {:.2} ms or choose Adaptive.",
                 p.physics.integrator,
                 stable * 1e3
             ));
         } else if dt > accurate {
             w.push(format!(
-                "dt = {:.3} ms is above the step at which {:?} stays within 1 % ({:.3} ms, stability study)",
-                dt * 1e3,
+                "The time step ({ms:.3} ms) is too long for the {:?} integrator to be accurate: \
+                 skips and distance may be off by more than 1 %. Lower the time step below \
+                 {:.3} ms or choose Adaptive.",
                 p.physics.integrator,
                 accurate * 1e3
             ));
@@ -128,7 +116,8 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
         let density = p.stone.mass / volume;
         if density < p.physics.water_density {
             w.push(format!(
-                "the stone ({density:.0} kg/m³) is lighter than water ({:.0} kg/m³): a real one would float",
+                "This stone is lighter than water ({density:.0} kg/m³, the water {:.0} kg/m³): \
+                 a real one would float. Raise its mass or shrink it.",
                 p.physics.water_density
             ));
         }
@@ -137,22 +126,31 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
         // docs/studies/fidelity §11: coupled once a tick, the stone runs up to a tick ahead of
         // its own wave; on the deep-water patch the distances settle below 0.625 ms, on the
         // columns they move with the tick at every tick the study ran.
-        let ms = p.physics.dt * 1e3;
         if p.water.near_field == crate::sim::params::NearField::Spectral {
             // §10: the throws on deep water end in planing glides, as on flat water.
             let s = p.water.spectral;
-            let tick = if p.physics.dt > SETTLED_TICK {
-                format!(
-                    "; at a {ms:.2} ms tick the stone runs ahead of its own wave, results settle \
-                     below {} ms (§11)",
-                    SETTLED_TICK * 1e3
+            let (tick, todo) = if p.physics.dt > SETTLED_TICK {
+                (
+                    format!(
+                        ", and at a {ms:.2} ms time step the stone outruns its own wave, so \
+                         distances are not settled"
+                    ),
+                    format!(
+                        "Lower the time step below {} ms for settled distances, or turn off \
+                         Wavy contact in Water for the converged model the presets use.",
+                        SETTLED_TICK * 1e3
+                    ),
                 )
             } else {
-                String::new()
+                (
+                    String::new(),
+                    "Turn off Wavy contact in Water for the converged model the presets use."
+                        .to_owned(),
+                )
             };
             w.push(format!(
-                "deep-water near field of {} × {} cells of {:.1} mm: throws end in planing \
-                 glides, as on flat water (fidelity study §10){tick}",
+                "The deep-water near field is on ({} × {} cells of {:.1} mm): throws end in a \
+                 long glide along the surface (planing), as on flat water{tick}. {todo}",
                 s.cells,
                 s.cells,
                 s.cell * 1e3
@@ -161,9 +159,9 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
             // §9: from 5 cm to 7 mm columns the near field has not converged (planing glides
             // come back below 1.4 cm), and it changes with the rest depth.
             w.push(format!(
-                "wavy contact on {:.1} cm cells at a {ms:.2} ms tick: the near field is not \
-                 converged, results move with the cell, the depth (fidelity study §9) and the \
-                 tick (§11)",
+                "Wavy contact is on ({:.1} cm cells, {ms:.2} ms time step): the result changes \
+                 with the water's cell size, its depth and the time step, so trust trends, not \
+                 exact skip counts. Turn it off in Water for a converged throw.",
                 p.water.cell * 100.0
             ));
         }
@@ -903,6 +901,7 @@ impl Model {
             self.style(),
         );
         if self.view_mode == ViewMode::Side {
+            scene.side_view = true;
             // The lake's rim stays; the side view's guides replace nothing else.
             scene.lines.extend(side_guides(
                 &self.framing(),
@@ -1383,18 +1382,36 @@ mod tests {
         let mut fast = ok.clone();
         fast.physics.integrator = Integrator::Paper;
         fast.physics.dt = 0.005;
-        assert!(setup_warnings(&fast)[0].contains("stable step"));
+        let w = &setup_warnings(&fast)[0];
+        assert!(
+            w.contains("too long for the Paper integrator: bounces may gain energy"),
+            "{w}"
+        );
+        // Between the accurate and the stable step: the accuracy warning.
+        fast.physics.dt = 0.001;
+        let w = &setup_warnings(&fast)[0];
+        assert!(
+            w.contains("to be accurate") && w.contains("1.000 ms"),
+            "{w}"
+        );
         let mut light = ok.clone();
         light.stone.mass = 1e-3;
-        assert!(setup_warnings(&light)[0].contains("lighter than water"));
+        let w = &setup_warnings(&light)[0];
+        assert!(
+            w.contains("lighter than water") && w.contains("float"),
+            "{w}"
+        );
         let mut wavy = ok.clone();
         wavy.water.wavy_contact = true;
         wavy.water.cell = 0.05;
-        assert!(setup_warnings(&wavy)[0].contains("wavy contact"));
-        // No cell is converged (fidelity §9): the finest one the UI allows is warned of too.
+        let w = &setup_warnings(&wavy)[0];
+        assert!(w.starts_with("Wavy contact is on (5.0 cm cells"), "{w}");
+        // No cell is converged (fidelity §9): the finest one the UI allows is warned of too, and
+        // the tick is named (§11).
         wavy.water.cell = 0.005;
-        assert!(setup_warnings(&wavy)[0].contains("not converged"));
-        assert!(setup_warnings(&wavy)[0].contains("tick (§11)"));
+        let w = &setup_warnings(&wavy)[0];
+        assert!(w.contains("trust trends, not exact skip counts"), "{w}");
+        assert!(w.contains("5.00 ms time step"), "{w}");
         // The deep-water near field: its glides, and the tick while it is coarser than the one
         // where the study's distances settle (fidelity §11).
         let mut deep = wavy.clone();
@@ -1402,12 +1419,23 @@ mod tests {
         deep.physics.dt = 0.005;
         let w = &setup_warnings(&deep)[0];
         assert!(
-            w.contains("planing glides") && w.contains("5.00 ms tick"),
+            w.contains("long glide along the surface")
+                && w.contains("5.00 ms time step")
+                && w.contains("outruns"),
             "{w}"
         );
         deep.physics.dt = SETTLED_TICK;
         let w = &setup_warnings(&deep)[0];
-        assert!(w.contains("planing glides") && !w.contains("§11"), "{w}");
+        assert!(
+            w.contains("long glide along the surface") && !w.contains("outruns"),
+            "{w}"
+        );
+        // No warning cites a study section the app cannot open.
+        for p in [&fast, &light, &wavy, &deep] {
+            for w in setup_warnings(p) {
+                assert!(!w.contains('§') && !w.contains("study"), "{w}");
+            }
+        }
     }
 
     #[test]

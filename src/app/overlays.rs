@@ -8,6 +8,7 @@ use super::model::Model;
 use crate::render::camera::ViewMode;
 use crate::ui::{self, Action, Phase};
 
+/// Text with a drop shadow; returns where it was drawn.
 fn shadowed_text(
     painter: &egui::Painter,
     pos: egui::Pos2,
@@ -15,7 +16,7 @@ fn shadowed_text(
     text: &str,
     size: f32,
     color: Color32,
-) {
+) -> egui::Rect {
     painter.text(
         pos + egui::vec2(1.5, 1.5),
         align,
@@ -23,7 +24,17 @@ fn shadowed_text(
         FontId::proportional(size),
         Color32::from_black_alpha(150),
     );
-    painter.text(pos, align, text, FontId::proportional(size), color);
+    painter.text(pos, align, text, FontId::proportional(size), color)
+}
+
+/// Where the camera's name goes (its right-top corner): the view's top right, or under the score
+/// when the two would meet.
+fn camera_label_at(score: egui::Rect, label_width: f32, view: egui::Rect) -> egui::Pos2 {
+    if score.right() + 24.0 + label_width < view.right() - 14.0 {
+        view.right_top() + egui::vec2(-14.0, 10.0)
+    } else {
+        egui::pos2(view.right() - 14.0, score.bottom() + 4.0)
+    }
 }
 
 impl Model {
@@ -42,7 +53,7 @@ impl Model {
             score.push_str(&format!("   {o}"));
         }
         let pos = rect.left_top() + egui::vec2(14.0, 10.0);
-        shadowed_text(
+        let score_rect = shadowed_text(
             &painter,
             pos,
             Align2::LEFT_TOP,
@@ -59,9 +70,16 @@ impl Model {
         } else {
             14.0
         };
-        shadowed_text(
+        // Beside the score where it fits, else under it (a narrow view never prints one over the
+        // other).
+        let width = painter
+            .layout_no_wrap(label.clone(), FontId::proportional(big), Color32::WHITE)
+            .size()
+            .x;
+        let label_at = camera_label_at(score_rect, width, rect);
+        let label_rect = shadowed_text(
             &painter,
-            rect.right_top() + egui::vec2(-14.0, 10.0),
+            label_at,
             Align2::RIGHT_TOP,
             &label,
             big,
@@ -82,7 +100,7 @@ impl Model {
             FontId::proportional(13.0),
             Color32::from_white_alpha(190),
         );
-        let mut y = rect.top() + 42.0;
+        let mut y = score_rect.bottom().max(label_rect.bottom()) + 8.0;
         // The side view's tick legend leads the stack, so no notice is drawn over it.
         let legend = (self.view_mode == ViewMode::Side).then(|| {
             (
@@ -90,8 +108,12 @@ impl Model {
                 Color32::from_rgb(225, 232, 240),
             )
         });
+        let glide = self
+            .glide_words()
+            .map(|t| (t, Color32::from_rgb(140, 215, 255)));
         let lines = legend
             .into_iter()
+            .chain(glide)
             .chain(self.notices.iter().map(|(t, error)| {
                 let c = if *error {
                     Color32::from_rgb(255, 120, 100)
@@ -124,6 +146,26 @@ impl Model {
             y += size.y + 8.0;
         }
         self.status_ui(ui, actions);
+    }
+
+    /// A throw that ended in a long planing slide, flagged where a class looks (issue 39: a
+    /// 28 m glide was only a table row): the last contact a glide ([`ui::contact_kind`]) over a
+    /// quarter of the throw's distance or longer than a second.
+    fn glide_words(&self) -> Option<String> {
+        let radius = self.sim.stone().shape.half_extent();
+        let c = self.shown.contacts.last()?;
+        if ui::contact_kind(c, radius) != ui::ContactKind::Glide {
+            return None;
+        }
+        let slid = ui::slide_distance(c);
+        let time = c.t_end - c.t_start;
+        let distance = self.shown.readouts.distance.max(1e-9);
+        (slid > 0.25 * distance || time > 1.0).then(|| {
+            format!(
+                "Glide: the stone stopped skipping and slid {slid:.1} m over the water for \
+                 {time:.1} s before it sank."
+            )
+        })
     }
 
     /// The side view's distance marks along the waterline (every 1, 2, 5 or 10 m from the launch);
@@ -215,5 +257,61 @@ impl Model {
             .anchor(Align2::CENTER_CENTER, egui::vec2(0.0, 0.0))
             .show(ctx, ui::about_ui);
         self.show_about = open;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::Options;
+
+    /// The throw run to its end in the app's model, with its readouts refreshed.
+    fn finished(p: crate::sim::params::Preset) -> Model {
+        let mut m = Model::new(p, None, Options::default()).unwrap();
+        m.throw();
+        while !m.sim.is_finished() {
+            m.tick_once();
+        }
+        m.phase = Phase::Paused;
+        m.refresh_shown();
+        m
+    }
+
+    /// Issue 39, finding 5: "23 skips 32.69 m sank" and "side view, heights ×10" printed over
+    /// each other in a 430 px view; the name drops under the score when they would meet.
+    #[test]
+    fn the_camera_name_never_covers_the_score() {
+        let score = egui::Rect::from_min_size(egui::pos2(14.0, 10.0), egui::vec2(260.0, 26.0));
+        for view_width in [300.0, 430.0, 600.0, 1000.0] {
+            let view = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(view_width, 500.0));
+            let width = 210.0;
+            let at = camera_label_at(score, width, view);
+            let label = egui::Rect::from_min_max(
+                egui::pos2(at.x - width, at.y),
+                at + egui::vec2(0.0, 22.0),
+            );
+            assert!(
+                !label.intersects(score),
+                "{view_width}: {label:?} over {score:?}"
+            );
+        }
+    }
+
+    /// Issue 39, finding 7: a throw that ends in a long planing slide says so over the view; the
+    /// shipped default, whose last contact is a short slide into the sink, does not.
+    #[test]
+    fn a_long_glide_is_flagged_in_the_view() {
+        let default = crate::preset::shipped("default").unwrap().unwrap();
+        assert_eq!(finished(default.clone()).glide_words(), None);
+        // Quasi-steady contact on flat water (the water's lag off): a fast throw planes away.
+        let mut p = default;
+        p.physics.wetted_memory = None;
+        p.water.enabled = false;
+        let m = finished(p);
+        let words = m.glide_words().expect("a glide");
+        assert!(
+            words.starts_with("Glide: the stone stopped skipping"),
+            "{words}"
+        );
     }
 }

@@ -15,6 +15,10 @@ use crate::render::camera::{ViewMode, EXAGGERATIONS};
 use crate::sim::params::Rotation;
 use crate::ui::{self, Action, GhostRow, Phase, Section, SimControls, ViewRequest};
 
+/// The side panels' widths (points): a wide table scrolls inside its panel rather than narrowing
+/// the 3D view (issue 39: the contacts table took it from 635 to 433 px of a 1280 px window).
+const PANEL_WIDTH: std::ops::RangeInclusive<f32> = 240.0..=360.0;
+
 /// Pointer within this many points of the stone starts a throw gesture (before a throw).
 pub const GESTURE_GRAB_RADIUS: f32 = 48.0;
 
@@ -88,6 +92,7 @@ impl Model {
         if self.view.show_settings {
             egui::Panel::left("settings")
                 .default_size(330.0)
+                .size_range(PANEL_WIDTH)
                 .resizable(true)
                 .show(ui, |ui| {
                     egui::ScrollArea::vertical().show(ui, |ui| self.settings_ui(ui, actions));
@@ -96,6 +101,7 @@ impl Model {
         if self.view.show_readouts {
             egui::Panel::right("readouts")
                 .default_size(330.0)
+                .size_range(PANEL_WIDTH)
                 .resizable(true)
                 .show(ui, |ui| {
                     egui::ScrollArea::vertical()

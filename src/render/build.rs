@@ -66,6 +66,7 @@ pub fn scene_of<'a>(
         splashes: splashes_of(sim.contacts(), t),
         lines,
         style,
+        side_view: false,
     }
 }
 
@@ -325,6 +326,13 @@ pub const SKIP_COLOR: [f32; 4] = [0.45, 1.0, 0.3, 1.0];
 pub const END_COLOR: [f32; 4] = [1.0, 0.3, 0.2, 1.0];
 pub const OPEN_COLOR: [f32; 4] = [1.0, 1.0, 1.0, 1.0];
 
+/// The side view's colours, dark and saturated so they read on a projector over the pale sky:
+/// the trail, a skip's tick, the tick of the contact that stayed in the water, one still going.
+pub const SIDE_TRAIL_COLOR: [f32; 4] = [0.03, 0.09, 0.32, 1.0];
+pub const SIDE_SKIP_COLOR: [f32; 4] = [0.0, 0.5, 0.12, 1.0];
+pub const SIDE_END_COLOR: [f32; 4] = [0.8, 0.05, 0.05, 1.0];
+pub const SIDE_OPEN_COLOR: [f32; 4] = [0.35, 0.35, 0.35, 1.0];
+
 /// The side view's guides: the waterline under the whole trajectory and a tick rising from each
 /// contact (green: a skip; red: a contact that did not end in the air; white: still going on; none
 /// for a graze).
@@ -345,11 +353,11 @@ pub fn side_guides(framing: &Framing, contacts: &[ContactEvent], camera: &Camera
     let tick = 0.05 * view_h / camera.exaggeration.max(1e-3);
     for c in contacts.iter().filter(|c| !c.graze) {
         let color = if c.open {
-            OPEN_COLOR
+            SIDE_OPEN_COLOR
         } else if c.skip {
-            SKIP_COLOR
+            SIDE_SKIP_COLOR
         } else {
-            END_COLOR
+            SIDE_END_COLOR
         };
         let p = Vec3::new(c.x as f32, c.y as f32, 0.0);
         lines.push(Line {
@@ -444,6 +452,37 @@ pub fn thinned(points: &[Vec3], max: usize) -> Vec<Vec3> {
 
 #[cfg(test)]
 mod tests {
+
+    /// WCAG 2 contrast ratio of two sRGB colours (components 0–1).
+    fn contrast(a: [f32; 3], b: [f32; 3]) -> f32 {
+        let lum = |c: [f32; 3]| {
+            let lin = |u: f32| {
+                if u <= 0.04045 {
+                    u / 12.92
+                } else {
+                    ((u + 0.055) / 1.055).powf(2.4)
+                }
+            };
+            0.2126 * lin(c[0]) + 0.7152 * lin(c[1]) + 0.0722 * lin(c[2])
+        };
+        let (x, y) = (lum(a), lum(b));
+        (x.max(y) + 0.05) / (x.min(y) + 0.05)
+    }
+
+    /// Issue 39, finding 5: the side view's trail and ticks read on a projector. Against the
+    /// side view's pale sky (about rgb 196 214 238 on screen) the trail passes WCAG's 7:1 and the
+    /// ticks its 3:1 for graphics; the old pale yellow trail had 1.3:1.
+    #[test]
+    fn the_side_view_reads_on_a_projector() {
+        let sky = [196.0 / 255.0, 214.0 / 255.0, 238.0 / 255.0];
+        let rgb = |c: [f32; 4]| [c[0], c[1], c[2]];
+        assert!(contrast(rgb(SIDE_TRAIL_COLOR), sky) >= 7.0);
+        for tick in [SIDE_SKIP_COLOR, SIDE_END_COLOR, SIDE_OPEN_COLOR] {
+            assert!(contrast(rgb(tick), sky) >= 3.0, "{tick:?}");
+        }
+        assert!(contrast([1.0, 0.78, 0.25], sky) < 1.5);
+    }
+
     use super::*;
     use crate::sim::integrate::BodyState;
 

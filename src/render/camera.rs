@@ -84,6 +84,9 @@ pub struct Framing {
     pub bounds: (Vec3, Vec3),
 }
 
+/// How far ahead of the stone the side and top views keep open water (m).
+pub const LEAD: f32 = 2.5;
+
 /// The camera of `mode` for `framing` in a view of `aspect`; `None` for [`ViewMode::Free`].
 pub fn camera_for(mode: ViewMode, f: &Framing, aspect: f32, exaggeration: f32) -> Option<Camera> {
     let along = Vec3::new(f.heading.cos(), f.heading.sin(), 0.0);
@@ -91,16 +94,19 @@ pub fn camera_for(mode: ViewMode, f: &Framing, aspect: f32, exaggeration: f32) -
         ViewMode::Behind => Some(Camera::orbiting(f.launch, f.heading)),
         ViewMode::Follow => Some(Camera::chase(f.stone, f.velocity, f.heading, f.radius)),
         ViewMode::Side => {
-            // At least the launch and a few metres ahead, so the first flight has room.
+            // At least the launch and a few metres ahead of it and of the stone, so the flight
+            // has room and the stone never reaches the view's edge (under its labels).
             let ahead = f.launch + along * 3.0;
-            let lo = f.bounds.0.min(f.launch.min(ahead).with_z(0.0));
-            let hi = f.bounds.1.max(f.launch.max(ahead));
+            let lead = f.stone.with_z(0.0) + along * LEAD;
+            let lo = f.bounds.0.min(f.launch.min(ahead).with_z(0.0)).min(lead);
+            let hi = f.bounds.1.max(f.launch.max(ahead)).max(lead);
             Some(Camera::side_view(lo, hi, f.heading, aspect, exaggeration))
         }
         ViewMode::Top => {
+            let lead = f.stone.with_z(0.0) + along * LEAD;
             let ahead = f.launch + along * 3.0;
-            let lo = f.bounds.0.min(f.launch.min(ahead));
-            let hi = f.bounds.1.max(f.launch.max(ahead));
+            let lo = f.bounds.0.min(f.launch.min(ahead)).min(lead);
+            let hi = f.bounds.1.max(f.launch.max(ahead)).max(lead);
             Some(Camera::top_view(lo, hi, f.heading, aspect))
         }
         ViewMode::Free => None,
@@ -401,6 +407,45 @@ fn wrap_angle(a: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+
+    /// Issue 39, finding 5: the side and top views keep open water ahead of the stone, so it never
+    /// runs to the view's edge (under the labels and warnings drawn there).
+    #[test]
+    fn side_and_top_views_keep_water_ahead_of_the_stone() {
+        let f = Framing {
+            launch: Vec3::new(0.0, 0.0, 0.3),
+            heading: 0.0,
+            stone: Vec3::new(20.0, 0.0, 0.02),
+            velocity: Vec3::new(8.0, 0.0, 0.5),
+            radius: 0.05,
+            bounds: (Vec3::new(0.0, -0.3, 0.0), Vec3::new(20.0, 0.3, 0.3)),
+        };
+        let (w, h) = (800, 600);
+        for mode in [ViewMode::Side, ViewMode::Top] {
+            let cam = camera_for(mode, &f, w as f32 / h as f32, 10.0).unwrap();
+            let at = |p: Vec3| cam.project(p, w, h).unwrap();
+            let stone = at(f.stone);
+            let ahead = at(f.stone + Vec3::X * (LEAD - 0.01));
+            for p in [stone, ahead] {
+                assert!(
+                    p.x >= 0.0 && p.x <= w as f32 && p.y >= 0.0 && p.y <= h as f32,
+                    "{mode:?} {p}"
+                );
+            }
+            // The stone is well inside, not at the edge it runs towards.
+            let travel = ahead - stone;
+            let margin = if travel.x.abs() > travel.y.abs() {
+                w as f32 - stone.x
+            } else {
+                stone.y
+            };
+            assert!(
+                margin > 0.05 * w.min(h) as f32,
+                "{mode:?}: the stone {stone} at the edge"
+            );
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -108,6 +108,7 @@ impl SimulatedScene {
             .unwrap_or_else(|| Camera::default_for(self.sim.preset()));
         let mut scene = build::scene_of(&self.sim, None, &self.trail, &self.heights, camera, style);
         if view == ViewMode::Side {
+            scene.side_view = true;
             scene
                 .lines
                 .extend(build::side_guides(&framing, self.sim.contacts(), &camera));

@@ -110,6 +110,9 @@ pub struct Scene<'a> {
     /// Guide lines, drawn over everything.
     pub lines: Vec<Line>,
     pub style: SceneStyle,
+    /// Drawn for the side view: the trail dark and wide, to read on a projector over the pale
+    /// sky (issue 39).
+    pub side_view: bool,
 }
 
 impl Scene<'_> {

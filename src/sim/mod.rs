@@ -86,6 +86,17 @@ impl Outcome {
             Outcome::Diverged => "diverged",
         }
     }
+
+    /// The outcome as a person says it (the app and the text summary; the JSON keeps
+    /// [`Outcome::as_str`]).
+    pub fn words(self) -> &'static str {
+        match self {
+            Outcome::Sank => "sank",
+            Outcome::Timeout => "still going at the time limit",
+            Outcome::LeftDomain => "left the lake",
+            Outcome::Diverged => "diverged (the numbers stopped being finite)",
+        }
+    }
 }
 
 /// One contact episode: from the first vertex reaching the surface until none is at or below it,

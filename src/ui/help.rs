@@ -1,5 +1,6 @@
 //! The help overlay (F1 or ?: every shortcut and mouse gesture) and the "about the model" panel:
-//! each law and option in a sentence with its source (design.md §4–5).
+//! half a page in plain words (what a skip is, what the simulator does, what to try), then each
+//! law and option in a sentence with its source (design.md §4–5).
 
 use egui::{RichText, Ui};
 
@@ -26,6 +27,10 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ),
     ("F1 or ?", "this help"),
     ("M", "about the model"),
+    (
+        "X",
+        "Experiments: throw many times, changing one thing, and chart the results",
+    ),
     ("Esc", "close help and messages"),
 ];
 
@@ -113,7 +118,7 @@ const MODEL: &[(&str, &str, &str)] = &[
         "Integrators",
         "Paper (Euler velocity, trapezoid position), symplectic Euler and RK4 take fixed ticks; \
          Adaptive flies exactly, locates contact entry by root finding and controls its error in \
-         contact. The stability study gives each one's largest stable step.",
+         contact. A fixed step that is too long makes bounces gain energy (the app warns).",
         "the paper, eqs. 30–38; docs/studies/stability",
     ),
     (
@@ -170,9 +175,9 @@ const MODEL: &[(&str, &str, &str)] = &[
     (
         "Wavy contact",
         "Optional: contact against the grid's height instead of the lake's own surface, so the \
-         stone rides on the water its own pressure moves (issue 11's model). Not converged: \
-         results move with the cell, the depth and the tick (the columns are shallow-water \
-         waves; at the stone's scale real water is deep).",
+         stone rides on the water its own pressure moves (the model the presets used before the \
+         water's lag). Not converged: results move with the cell, the depth and the tick (the \
+         columns are shallow-water waves; at the stone's scale real water is deep).",
         "the paper (future work); docs/studies/fidelity §9–§11",
     ),
     (
@@ -181,9 +186,9 @@ const MODEL: &[(&str, &str, &str)] = &[
          of deep water that follows it (drawn with a pale outline), linear potential flow with the \
          capillary–gravity dispersion ω² = (gk + σk³/ρ) tanh(kH), each Fourier mode stepped \
          exactly. Deep water gives way about kH times less than the columns, and the throws end \
-         in planing glides as on flat water (shorter once the tick is well under the stone's \
-         crossing of its own length: fidelity §11).",
-        "Lamb 1932 §§229, 267, 348; docs/studies/fidelity §10",
+         in planing glides as on flat water (shorter once the tick is well under the time the \
+         stone takes to cross its own length).",
+        "Lamb 1932 §§229, 267, 348; docs/studies/fidelity §10–§11",
     ),
     (
         "Buoyancy",
@@ -230,11 +235,52 @@ const MODEL: &[(&str, &str, &str)] = &[
     ),
 ];
 
-/// The "about the model" panel's contents.
+/// The opening of the about panel, for a reader of fifteen: (heading, paragraph).
+pub const ABOUT_OPENING: &[(&str, &str)] = &[
+    (
+        "Why a stone skips",
+        "A skimming stone bounces because the water pushes back. Thrown flat and tilted a little, \
+         front edge up, it hits the water like a water-ski: it shoves the water down and forward, \
+         and the water pushes it up and back. If that push is strong enough, the stone is lifted \
+         out and flies on to the next bounce, a little slower each time. Too slow, and the push \
+         is too weak: the stone sinks. Too steep, coming down at more than about 45°, and it digs \
+         in and goes under. Spin keeps the stone flat, like a gyroscope or a spinning top; \
+         without spin it tips nose-down and dives. About 20° of tilt works best: there a stone \
+         skips even when thrown slowly. That is the \"magic angle\" found in experiments.",
+    ),
+    (
+        "What the simulator does",
+        "It cuts the stone into thousands of small triangles. A little at a time (a few \
+         thousandths of a second, much less while the stone touches the water) it finds which \
+         triangles are wet, works out how hard the water pushes on each one and how much it rubs, \
+         adds all those pushes up and moves and turns the stone by that much. In the air only \
+         gravity and the air act on it. The water is a grid of thin columns that pass water to \
+         their neighbours, so where the stone pushes down, rings spread across the lake.",
+    ),
+    (
+        "What to try",
+        "Press Space to throw, then 3 for the side view. Change one thing at a time in the Launch \
+         panel: slow the stone down until it no longer skips, tilt it steeply, or take its spin \
+         away, and compare with the faint trails of your earlier throws. Open Experiments (X) and \
+         vary Tilt from 0° to 45° to find the magic angle yourself. The presets too_slow, \
+         too_steep and no_spin_dive show three ways a throw fails.",
+    ),
+];
+
+/// The "about the model" panel's contents: the plain opening, then the model in detail.
 pub fn about_ui(ui: &mut Ui) {
     egui::ScrollArea::vertical()
         .max_height(460.0)
         .show(ui, |ui| {
+            for (heading, paragraph) in ABOUT_OPENING {
+                ui.label(RichText::new(*heading).strong().size(15.0));
+                ui.label(*paragraph);
+                ui.add_space(6.0);
+            }
+            ui.separator();
+            ui.label(RichText::new("The model in detail").strong().size(15.0));
+            ui.weak("Each law and option in a sentence, its sources in brackets.");
+            ui.add_space(3.0);
             for (topic, sentence, source) in MODEL {
                 ui.horizontal_wrapped(|ui| {
                     ui.label(RichText::new(*topic).strong());
@@ -244,4 +290,39 @@ pub fn about_ui(ui: &mut Ui) {
                 ui.add_space(3.0);
             }
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn help_and_about_speak_plainly() {
+        // The opening names what a skip needs, the magic angle and what to try.
+        let opening: String = ABOUT_OPENING.iter().map(|(_, p)| *p).collect();
+        for words in [
+            "water pushes back",
+            "sinks",
+            "gyroscope",
+            "20°",
+            "magic angle",
+            "triangles",
+        ] {
+            assert!(opening.contains(words), "{words}");
+        }
+        // Section marks and issue numbers stay in the sources, never in what a student reads.
+        let plain = ABOUT_OPENING
+            .iter()
+            .map(|(h, p)| (*h, *p))
+            .chain(MODEL.iter().map(|(t, s, _)| (*t, *s)))
+            .chain(SHORTCUTS.iter().copied());
+        for (topic, text) in plain {
+            assert!(
+                !text.contains('§') && !text.contains("issue ") && !text.contains("study"),
+                "{topic}: {text}"
+            );
+        }
+        // Every key the app answers to is listed, Experiments' X included.
+        assert!(SHORTCUTS.iter().any(|(k, _)| *k == "X"));
+    }
 }

@@ -197,7 +197,7 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
         ui.weak("no contact yet");
         return;
     }
-    egui::ScrollArea::vertical()
+    egui::ScrollArea::both()
         .id_salt("contacts")
         .max_height(150.0)
         .show(ui, |ui| {

@@ -193,7 +193,9 @@ impl OverlayPass {
     ) {
         let pts = scene.trail;
         // 1.5–3 pixels of the view (2–4 in the side view), never below one pixel.
-        let base = if scene.camera.exaggeration > 1.0 {
+        let base = if scene.side_view {
+            2.5
+        } else if scene.camera.exaggeration > 1.0 {
             2.0
         } else {
             1.5
@@ -205,7 +207,7 @@ impl OverlayPass {
             [
                 p.x.to_bits(),
                 p.y.to_bits(),
-                p.z.to_bits() ^ width.to_bits(),
+                p.z.to_bits() ^ width.to_bits() ^ u32::from(scene.side_view),
             ]
         });
         let key = (pts.len(), last);
@@ -219,11 +221,15 @@ impl OverlayPass {
             let (a, b) = (w[0], w[1]);
             // Older parts of the path fade a little so the newest flight reads first.
             let age = 1.0 - i as f32 / n.max(1) as f32;
-            let alpha = 0.9 - 0.35 * age;
+            let color = if scene.side_view {
+                crate::render::build::SIDE_TRAIL_COLOR
+            } else {
+                [1.0, 0.78, 0.25, 0.9 - 0.35 * age]
+            };
             inst.push(LineInstance {
                 a: [a.x, a.y, a.z, width],
                 b: [b.x, b.y, b.z, width],
-                color: [1.0, 0.78, 0.25, alpha],
+                color,
             });
         }
         self.trail_count = inst.len() as u32;
