@@ -29,8 +29,13 @@ fn model(name: &str, dir: &Path) -> Model {
 /// The whole window's panels, as the app draws them, with the actions applied as the app
 /// applies them; the physics advances by the harness's frame time.
 fn harness(m: Model) -> Harness<'static, Model> {
+    harness_sized(m, [1280.0, 800.0])
+}
+
+/// [`harness`] in a window of `size` points (a tall one shows every row without scrolling).
+fn harness_sized(m: Model, size: [f32; 2]) -> Harness<'static, Model> {
     Harness::builder()
-        .with_size([1280.0, 800.0])
+        .with_size(size)
         .with_max_steps(10_000)
         // As the app does: a glyph no font has (a typed "٣") is drawn as a box.
         .allow_missing_glyphs()
@@ -534,4 +539,37 @@ fn opening_the_panels_keeps_the_view_wide() {
         after >= 1280.0 - 2.0 * 360.0 - 1.0,
         "the view shrank from {before} to {after} px"
     );
+}
+
+/// Issue 39, finding 3: the Physics panel shows what a class changes (gravity, the water, the
+/// water's lag, the air, rotation); the paper's laws and the numerical switches wait, collapsed,
+/// under "Paper and validation".
+#[test]
+fn the_physics_panel_leads_with_what_a_class_changes() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    // Tall enough that no row is scrolled out of the accessibility tree.
+    let mut h = harness_sized(model("default", dir.path()), [1280.0, 4000.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::DisclosureTriangle, "Physics")
+        .click();
+    h.run_ok();
+    assert!(h.query_by_role_and_label(Role::Slider, "Gravity").is_some());
+    assert!(h
+        .query_by_role_and_label(Role::Slider, "Water density")
+        .is_some());
+    assert!(h
+        .query_by_role_and_label(Role::Slider, "Time step")
+        .is_none());
+    assert!(h
+        .query_by_role_and_label(Role::ComboBox, "Force law")
+        .is_none());
+    h.get_by_role_and_label(Role::DisclosureTriangle, "Paper and validation")
+        .click();
+    h.run_ok();
+    assert!(h
+        .query_by_role_and_label(Role::ComboBox, "Force law")
+        .is_some());
+    assert!(h
+        .query_by_role_and_label(Role::Slider, "Time step")
+        .is_some());
 }

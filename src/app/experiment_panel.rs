@@ -1,4 +1,5 @@
-//! The Experiments window: choose a launch value and a range, throw them all in the background,
+//! The Experiments panel (along the window's foot, outside the 3D view, so the app's tile cache
+//! redraws it only when a result arrives): choose a launch value and a range, throw them all in the background,
 //! watch skips and distance against the value as results arrive, click a point (or a row) to
 //! load and watch that throw, export the table as CSV. Plain egui on
 //! [`super::experiments`]; the model applies the actions.
@@ -21,48 +22,60 @@ pub fn experiments_ui(
     chosen: Option<usize>,
     actions: &mut Vec<Action>,
 ) {
-    ui.label(
-        "Throw the stone many times, changing one thing, with the physics as it is now. \
-         Each dot is one throw: click it to watch that throw.",
-    );
     let busy = experiment.is_some_and(running);
     if busy {
         // The app sleeps when nothing moves: wake it to take and draw the results.
         ui.ctx()
             .request_repaint_after(std::time::Duration::from_millis(100));
     }
-    spec_ui(ui, draft, busy, actions);
-    let Some(e) = experiment else {
-        return;
-    };
-    ui.separator();
-    progress_ui(ui, e);
-    let k = e.spec.knob;
-    for (name, axis, color, value) in [
-        (
-            "Skips",
-            "skips",
-            SKIPS,
-            (|p| p.skips as f64) as fn(&Point) -> f64,
-        ),
-        ("Distance", "distance (m)", DISTANCE, |p| p.distance),
-    ] {
-        if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), value) {
-            actions.push(Action::LoadExperimentPoint(i));
+    let height = ui.available_height();
+    ui.horizontal_top(|ui| {
+        ui.vertical(|ui| {
+            ui.set_width(SPEC_WIDTH);
+            ui.strong("Experiments");
+            ui.label(
+                "Throw the stone many times, changing one thing, with the physics as it is \
+                 now. Each dot is one throw: click it to watch that throw.",
+            );
+            spec_ui(ui, draft, busy, actions);
+            if let Some(e) = experiment {
+                progress_ui(ui, e);
+                if ui
+                    .add_enabled(e.done() > 0, egui::Button::new("Export CSV"))
+                    .on_hover_text("The table as a CSV file, in the exports folder")
+                    .clicked()
+                {
+                    actions.push(Action::ExportExperiment);
+                }
+            }
+        });
+        let Some(e) = experiment else {
+            return;
+        };
+        ui.separator();
+        let table_width = 330.0_f32.min(0.35 * ui.available_width());
+        let chart_width = ((ui.available_width() - table_width - 24.0) / 2.0).max(120.0);
+        for (name, axis, color, value) in [
+            (
+                "Skips",
+                "skips",
+                SKIPS,
+                (|p| p.skips as f64) as fn(&Point) -> f64,
+            ),
+            ("Distance", "distance (m)", DISTANCE, |p| p.distance),
+        ] {
+            let size = egui::vec2(chart_width, (height - 8.0).max(80.0));
+            if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), value, size) {
+                actions.push(Action::LoadExperimentPoint(i));
+            }
         }
-    }
-    ui.horizontal(|ui| {
-        ui.weak(format!("{} ({})", k.name(), k.unit()));
-        if ui
-            .add_enabled(e.done() > 0, egui::Button::new("Export CSV"))
-            .on_hover_text("The table below as a CSV file, in the exports folder")
-            .clicked()
-        {
-            actions.push(Action::ExportExperiment);
-        }
+        ui.separator();
+        ui.vertical(|ui| table_ui(ui, e, chosen, actions));
     });
-    table_ui(ui, e, chosen, actions);
 }
+
+/// The width of the sweep's settings column (points).
+const SPEC_WIDTH: f32 = 250.0;
 
 fn running(e: &Experiment) -> bool {
     !e.finished() && !e.stopped()
@@ -160,6 +173,7 @@ fn chart_ui(
     chosen: Option<usize>,
     (name, axis, color): (&str, &str, Color32),
     value: fn(&Point) -> f64,
+    size: egui::Vec2,
 ) -> Option<usize> {
     let pts: Vec<[f64; 2]> = e
         .points
@@ -172,7 +186,9 @@ fn chart_ui(
         .and_then(|i| e.points.get(i).cloned().flatten())
         .map(|p| [p.value, value(&p)]);
     let response = Plot::new(("experiment", name))
-        .height(110.0)
+        .width(size.x)
+        .height(size.y)
+        .x_axis_label(format!("{} ({})", e.spec.knob.name(), e.spec.knob.unit()))
         .allow_drag(false)
         .allow_zoom(false)
         .allow_scroll(false)
@@ -221,8 +237,7 @@ fn chart_ui(
 fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Vec<Action>) {
     let k = e.spec.knob;
     egui::ScrollArea::vertical()
-        .min_scrolled_height(150.0)
-        .max_height(220.0)
+        .auto_shrink([false, false])
         .id_salt("experiment table")
         .show(ui, |ui| {
             egui::Grid::new("experiment results")

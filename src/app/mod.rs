@@ -54,9 +54,12 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
     if options.autothrow {
         model.throw();
     }
-    if let Some(knob) = options.experiment {
+    if let Some((knob, count)) = options.experiment {
         model.show_experiments = true;
-        model.experiment_draft = experiments::Spec::suggested(knob);
+        model.experiment_draft = experiments::Spec {
+            count,
+            ..experiments::Spec::suggested(knob)
+        };
         model.handle(crate::ui::Action::RunExperiment);
     }
     let event_loop = EventLoop::new().map_err(|e| {

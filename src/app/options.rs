@@ -16,7 +16,7 @@
 //! | `STONESKIP_SOAK=N` | the soak: N automatic throws, cycling through the shipped presets |
 //! | `STONESKIP_SOAK_UNTIL=outcome` | a soak throw ends at its outcome, not when the app rests |
 //! | `STONESKIP_SOAK_CSV=FILE` | where the soak writes its per-throw rows (default `stoneskip-soak.csv`) |
-//! | `STONESKIP_EXPERIMENT=speed\|tilt\|spin\|height\|mass` | opens Experiments and runs that value's suggested sweep at start |
+//! | `STONESKIP_EXPERIMENT=VALUE[:N]` | opens Experiments and runs the suggested sweep of `speed`, `tilt`, `spin`, `height` or `mass` (N throws, default 24) at start |
 //! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost`, `gpu_error` |
 
 use std::path::PathBuf;
@@ -44,8 +44,9 @@ pub struct Options {
     pub soak_until_outcome: bool,
     /// GPU faults to inject, in frame order.
     pub faults: Vec<Fault>,
-    /// The experiment to run at start.
-    pub experiment: Option<super::experiments::Knob>,
+    /// The experiment to run at start: the value varied over its suggested range, in so many
+    /// throws.
+    pub experiment: Option<(super::experiments::Knob, usize)>,
 }
 
 /// A GPU fault the app injects into itself (`STONESKIP_FAULT`), to test its recovery.
@@ -127,9 +128,12 @@ impl Options {
                 .map_or(d.soak_csv, PathBuf::from),
             soak_until_outcome: get("STONESKIP_SOAK_UNTIL").is_some_and(|v| v.trim() == "outcome"),
             experiment: get("STONESKIP_EXPERIMENT").and_then(|v| {
-                super::experiments::Knob::ALL
+                let (name, count) = v.split_once(':').unwrap_or((&v, ""));
+                let knob = super::experiments::Knob::ALL
                     .into_iter()
-                    .find(|k| k.name().eq_ignore_ascii_case(v.trim()))
+                    .find(|k| k.name().eq_ignore_ascii_case(name.trim()))?;
+                let count = count.trim().parse().unwrap_or(24);
+                Some((knob, count))
             }),
             faults: get("STONESKIP_FAULT")
                 .map(|v| parse_faults(&v))
@@ -202,6 +206,20 @@ mod tests {
             ("STONESKIP_RENDER_SCALE", "nan"),
         ]);
         assert_eq!(bad, Options::default());
+    }
+
+    #[test]
+    fn an_experiment_at_start_parses() {
+        use crate::app::experiments::Knob;
+        assert_eq!(
+            with(&[("STONESKIP_EXPERIMENT", "Tilt")]).experiment,
+            Some((Knob::Tilt, 24))
+        );
+        assert_eq!(
+            with(&[("STONESKIP_EXPERIMENT", "speed:120")]).experiment,
+            Some((Knob::Speed, 120))
+        );
+        assert_eq!(with(&[("STONESKIP_EXPERIMENT", "wind")]).experiment, None);
     }
 
     #[test]

@@ -8,7 +8,8 @@ use super::model::Model;
 use crate::render::camera::ViewMode;
 use crate::ui::{self, Action, Phase};
 
-/// Text with a drop shadow; returns where it was drawn.
+/// Text on a dark backing (readable over the pale sky, also on a washed-out projector) with a
+/// drop shadow; returns where it was drawn.
 fn shadowed_text(
     painter: &egui::Painter,
     pos: egui::Pos2,
@@ -17,6 +18,13 @@ fn shadowed_text(
     size: f32,
     color: Color32,
 ) -> egui::Rect {
+    let galley = painter.layout_no_wrap(text.to_owned(), FontId::proportional(size), color);
+    let rect = align.anchor_size(pos, galley.size());
+    painter.rect_filled(
+        rect.expand2(egui::vec2(6.0, 2.0)),
+        5.0,
+        Color32::from_black_alpha(110),
+    );
     painter.text(
         pos + egui::vec2(1.5, 1.5),
         align,
@@ -24,7 +32,8 @@ fn shadowed_text(
         FontId::proportional(size),
         Color32::from_black_alpha(150),
     );
-    painter.text(pos, align, text, FontId::proportional(size), color)
+    painter.galley(rect.min, galley, color);
+    rect
 }
 
 /// Where the camera's name goes (its right-top corner): the view's top right, or under the score

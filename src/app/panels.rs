@@ -89,6 +89,7 @@ impl Model {
             self.library.message = None;
         }
         self.top_bar_ui(ui, actions);
+        self.experiments_panel_ui(ui, actions);
         if self.view.show_settings {
             egui::Panel::left("settings")
                 .default_size(330.0)
@@ -113,17 +114,19 @@ impl Model {
             self.view_overlay_ui(ui, actions);
         });
         self.windows_ui(&ctx);
-        self.experiments_window_ui(&ctx, actions);
     }
 
-    fn experiments_window_ui(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
-        let mut open = self.show_experiments;
-        let at = self.view_rect.right_top() + egui::vec2(-450.0, 40.0);
-        egui::Window::new(RichText::new("Experiments").strong())
-            .open(&mut open)
-            .default_pos(at)
-            .default_width(430.0)
-            .show(ctx, |ui| {
+    /// The Experiments panel along the window's foot, the full width (drawn before the side
+    /// panels), resizable.
+    fn experiments_panel_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+        if !self.show_experiments {
+            return;
+        }
+        egui::Panel::bottom("experiments")
+            .resizable(true)
+            .default_size(260.0)
+            .size_range(180.0..=520.0)
+            .show(ui, |ui| {
                 super::experiment_panel::experiments_ui(
                     ui,
                     &mut self.experiment_draft,
@@ -132,7 +135,6 @@ impl Model {
                     actions,
                 );
             });
-        self.show_experiments = open;
     }
 
     fn shortcuts_ui(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {

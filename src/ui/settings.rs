@@ -81,6 +81,13 @@ impl Marks {
         (!values.is_empty()).then(|| values.join(", "))
     }
 
+    /// Whether a field outside those starting with one of `prefixes` differs.
+    pub fn any_outside(&self, prefixes: &[&str]) -> bool {
+        self.entries
+            .iter()
+            .any(|(f, _)| !prefixes.iter().any(|p| f.starts_with(p)))
+    }
+
     /// The differing fields no drawn row has shown.
     pub fn unshown(&self) -> Vec<&str> {
         let shown = self.shown.borrow();
@@ -596,7 +603,18 @@ fn bands_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
     .inner
 }
 
-/// Physical constants, force law and integrator: applied live at the next step.
+/// The physics fields a class changes, drawn first (their `app::edits` names' prefixes).
+const CLASS_PHYSICS: &[&str] = &[
+    "gravity",
+    "water density",
+    "wetted memory",
+    "air",
+    "rotation",
+];
+
+/// The physical constants, applied live: first what a class changes (gravity, the water, the
+/// water's lag, the air, whether the stone turns), then, collapsed, the paper's laws and the
+/// validation switches.
 pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut changed = false;
     changed |= grid(ui, "physics", |ui| {
@@ -612,6 +630,36 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
             "ρ of the water",
             |ui| ui.add(slider(&mut physics.water_density, 100.0..=3000.0).suffix(" kg/m³")),
         );
+        c |= memory_ui(ui, physics, marks);
+        c |= air_ui(ui, physics, marks);
+        c |= choice_row_ui(
+            ui,
+            marks,
+            &["rotation"],
+            "Rotation",
+            "Locked: attitude held (the paper). Free: a rigid body with spin and torque.",
+            &mut physics.rotation,
+            &[(Rotation::Locked, "Locked"), (Rotation::Free, "Free")],
+        );
+        c
+    });
+    // Marked when a value in there differs from the preset (and open, the first time).
+    let differs = marks.any_outside(CLASS_PHYSICS);
+    let title = if differs {
+        "Paper and validation •"
+    } else {
+        "Paper and validation"
+    };
+    egui::CollapsingHeader::new(title)
+        .id_salt("physics_paper")
+        .default_open(differs)
+        .show(ui, |ui| {
+            ui.weak(
+                "The laws and numerical choices the studies compare. The shipped presets set \
+                 them; a class rarely needs to.",
+            );
+            changed |= grid(ui, "physics paper", |ui| {
+                let mut c = false;
         let label = labelled_row_ui(
             ui,
             marks,
@@ -662,8 +710,6 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
             .changed();
         ui.end_row();
         c |= loading_options_ui(ui, physics, marks);
-        c |= memory_ui(ui, physics, marks);
-        c |= air_ui(ui, physics, marks);
         let label = labelled_row_ui(ui, marks, &["integrator"], "Integrator", "").1;
         let before = physics.integrator;
         egui::ComboBox::from_id_salt("integrator")
@@ -701,15 +747,6 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
                 .changed();
             ui.end_row();
         }
-        c |= choice_row_ui(
-            ui,
-            marks,
-            &["rotation"],
-            "Rotation",
-            "Locked: attitude held (the paper). Free: a rigid body with spin and torque.",
-            &mut physics.rotation,
-            &[(Rotation::Locked, "Locked"), (Rotation::Free, "Free")],
-        );
         if physics.rotation == Rotation::Free {
             c |= free_body_rows_ui(ui, physics, marks);
         }
@@ -735,8 +772,9 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
             "The run ends (timeout) here",
             |ui| ui.add(slider(&mut physics.max_time, 1.0..=120.0).suffix(" s")),
         );
-        c
-    });
+                c
+            });
+        });
     changed
 }
 
