@@ -645,3 +645,66 @@ fn the_near_field_shows_as_a_pale_outline_around_the_stone() {
         assert!(stray * 4 < pale, "{view:?}: {stray} stray pixels");
     }
 }
+
+/// Issue 39, finding 4: the follow camera drew the columns' two-cell mode (centimetre crests on
+/// 2 cm columns) as spikes beside the stone. The water is drawn through a 1-2-1 filter whose
+/// slopes are the Sobel operator's, which cancel a checkerboard exactly: a lake of ±1 cm
+/// checkerboard columns draws as the flat lake, while a smooth swell of the same height does not.
+#[test]
+fn the_columns_two_cell_mode_is_not_drawn() {
+    let Some(mut off) = offscreen() else { return };
+    let state = SimulatedScene::at_time(&default_preset(), 0.0).unwrap();
+    let style = SceneStyle {
+        show_trail: false,
+        show_markers: false,
+        show_splashes: false,
+        ripple_gain: 1.0,
+    };
+    let flat_scene = state.scene_for_view(style, ViewMode::Follow, 1.0, W as f32 / H as f32);
+    let water = flat_scene.water.clone().expect("a lake");
+    let (nx, ny) = (water.nx, water.ny);
+    let mut picture = |heights: &[f32], revision: u64| {
+        let mut scene = flat_scene.clone();
+        scene.water = Some(stoneskip::render::WaterView {
+            heights,
+            revision,
+            ..water
+        });
+        off.render(&scene, W, H).unwrap()
+    };
+    let flat = vec![0.0_f32; nx * ny];
+    let checker: Vec<f32> = (0..nx * ny)
+        .map(|i| {
+            if (i % nx + i / nx) % 2 == 0 {
+                0.01
+            } else {
+                -0.01
+            }
+        })
+        .collect();
+    let swell: Vec<f32> = (0..nx * ny)
+        .map(|i| 0.01 * ((i % nx) as f32 * water.cell as f32 * 12.0).sin())
+        .collect();
+    let (a, b, c) = (
+        picture(&flat, u64::MAX - 3),
+        picture(&checker, u64::MAX - 2),
+        picture(&swell, u64::MAX - 1),
+    );
+    let diff = |x: &image::RgbaImage, y: &image::RgbaImage| {
+        x.pixels()
+            .zip(y.pixels())
+            .map(|(p, q)| (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap_or(0))
+            .max()
+            .unwrap_or(0)
+    };
+    assert!(
+        diff(&a, &b) <= 2,
+        "the checkerboard shows: {}",
+        diff(&a, &b)
+    );
+    assert!(
+        diff(&a, &c) > 20,
+        "a smooth swell must show: {}",
+        diff(&a, &c)
+    );
+}

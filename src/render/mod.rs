@@ -22,7 +22,7 @@ pub use build::{Trail, WaterHeights};
 pub use camera::{Camera, ViewMode};
 pub use offscreen::Offscreen;
 pub use renderer::{RendererConfig, SceneRenderer, Viewport};
-pub use scene::{Line, Scene, SceneStyle};
+pub use scene::{Line, Scene, SceneStyle, WaterView};
 
 use crate::sim::params::Preset;
 use crate::sim::{SimError, Simulation};

@@ -1014,7 +1014,7 @@ fn max_step_row(ui: &mut Ui, marks: &Marks, max_step: &mut Option<f64>) -> bool 
         &["max step"],
         "Water step",
         "The columns' longest step. Unchecked: 70 % of the Courant limit. A shorter step is always \
-         stable, costs more, and lets the water answer the stone sooner (fidelity study §11)",
+         stable, costs more, and lets the water answer the stone sooner",
     ).1;
     let mut changed = false;
     ui.horizontal(|ui| {
@@ -1253,11 +1253,11 @@ fn memory_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         marks,
         &["wetted memory"],
         "Water's lag",
-        "The water under a fast stone takes a moment to rise and to fall back, so its wetted \
-         patch lags the stone's motion: τ = λ L/|U|, L the patch's length along the flow (the \
-         time the water takes to pass under it: a Wagner strip, docs/studies/wagner_lag). This is \
-         what breaks up planing at speed (Hewitt et al. 2011) and makes whole throws converge. \
-         Off: the quasi-steady contact of the paper; fast throws then end in a long glide.",
+        "The water under a fast stone takes a moment to rise and to fall back, so the wet patch \
+         lags the stone's motion. This stops a fast stone from gliding flat along the surface, \
+         and makes a whole throw come out the same at any time step. Off: the paper's contact; \
+         fast throws then end in a long glide. (τ = λ L/|U|, L the wet patch's length along the \
+         flow: Wagner 1932; Hewitt et al. 2011.)",
     )
     .1;
     let mut on = physics.wetted_memory.is_some();
@@ -1405,8 +1405,8 @@ fn loading_options_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool
             "Hydrostatic on",
             "Wetted faces: every wetted face carries ρ g d, so a submerged stone feels Archimedes' \
              ρ g V (ventilation removes only the dynamic pressure and friction). Loaded faces: only \
-             the faces carrying the dynamic pressure, as before issue 11's fix (a ventilated, \
-             submerged stone then switches its buoyancy on and off: docs/reliability.md, A1).",
+             the faces carrying the dynamic pressure, the older model (a ventilated, submerged stone \
+             then switches its buoyancy on and off).",
             &mut physics.hydrostatic,
             &[
                 (Hydrostatic::WettedFaces, "Wetted faces"),
