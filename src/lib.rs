@@ -10,11 +10,13 @@
 
 #[cfg(feature = "app")]
 pub mod app;
-pub mod preset;
 #[cfg(feature = "app")]
 pub mod render;
 pub mod report;
-pub mod sim;
 pub mod study;
 #[cfg(feature = "app")]
 pub mod ui;
+
+/// The physics and the preset format live in the `stoneskip-physics` crate, which draws nothing;
+/// they keep their paths here (`stoneskip::sim`, `stoneskip::preset`).
+pub use stoneskip_physics::{preset, sim};

@@ -661,7 +661,7 @@ fn the_columns_two_cell_mode_is_not_drawn() {
         ripple_gain: 1.0,
     };
     let flat_scene = state.scene_for_view(style, ViewMode::Follow, 1.0, W as f32 / H as f32);
-    let water = flat_scene.water.clone().expect("a lake");
+    let water = flat_scene.water.expect("a lake");
     let (nx, ny) = (water.nx, water.ny);
     let mut picture = |heights: &[f32], revision: u64| {
         let mut scene = flat_scene.clone();

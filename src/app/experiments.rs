@@ -324,7 +324,7 @@ fn unit_tag(k: Knob) -> &'static str {
 /// Puts the calling thread at the lowest CPU priority (nice 19), so the throws run on what the
 /// view leaves: on Linux a thread is its own task, and `setpriority(PRIO_PROCESS, 0, …)` sets the
 /// calling one's. Elsewhere the throws keep the default priority.
-fn lower_priority() {
+pub(crate) fn lower_priority() {
     #[cfg(target_os = "linux")]
     // SAFETY: setpriority reads no memory of ours; a failure leaves the priority as it was.
     unsafe {

@@ -41,12 +41,17 @@ pub const MAX_CHECK_EVALS: u64 = 400_000;
 /// The extent of the stone's track on flat water (its centre of mass from launch to outcome), or
 /// why there is none (an invalid preset, or a throw too costly to check).
 pub fn flat_track(p: &Preset) -> Result<Rect, String> {
+    flat_track_until(p, &|| false)
+}
+
+/// [`flat_track`], given up (an error) as soon as `stop` says so.
+pub fn flat_track_until(p: &Preset, stop: &dyn Fn() -> bool) -> Result<Rect, String> {
     let mut dry = p.clone();
     dry.water.enabled = false;
     let mut sim = Simulation::new(&dry).map_err(|e| e.to_string())?;
     let s = sim.state().position;
     let (mut lo, mut hi) = ([s.x, s.y], [s.x, s.y]);
-    let too_costly = |(_, evals): (u64, u64)| evals >= MAX_CHECK_EVALS;
+    let too_costly = |(_, evals): (u64, u64)| evals >= MAX_CHECK_EVALS || stop();
     while !sim.is_finished() {
         if too_costly(sim.cost()) {
             return Err(format!(

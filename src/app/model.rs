@@ -368,6 +368,9 @@ pub struct Model {
     pub lake_exit: Option<String>,
     /// `edit` changed since the lake check (it costs a flat-water run: done once a drag ends).
     pub lake_stale: bool,
+    /// The lake check running in the background: its result, and its stop flag (set when a newer
+    /// edit replaces it).
+    lake_job: Option<LakeJob>,
     pub sim: Simulation,
     /// What a frame may spend on physics.
     pub budget: FrameBudget,
@@ -437,6 +440,20 @@ pub struct Model {
     pub experiment_chosen: Option<usize>,
 }
 
+/// A lake check in the background ([`Model::start_lake_check`]).
+struct LakeJob {
+    receiver: std::sync::mpsc::Receiver<Option<Rect>>,
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    /// The lake it is checked against.
+    rect: Rect,
+}
+
+impl Drop for LakeJob {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+}
+
 impl Model {
     pub fn new(preset: Preset, source: Option<PathBuf>, options: Options) -> Result<Self> {
         let sim = Simulation::new(&preset).context("the initial preset")?;
@@ -453,6 +470,7 @@ impl Model {
             lake_track: None,
             lake_exit: None,
             lake_stale: true,
+            lake_job: None,
             edit: preset,
             sim,
             budget: FrameBudget::default(),
@@ -519,6 +537,7 @@ impl Model {
         if !self.lake_stale {
             return;
         }
+        self.lake_job = None;
         self.lake_stale = false;
         self.lake_track = None;
         self.lake_exit = None;
@@ -528,6 +547,54 @@ impl Model {
         if let Ok(track) = lake::flat_track(&self.edit) {
             self.lake_exit = lake::leaves_lake(track, rect, lake::WARN_MARGIN);
             self.lake_track = Some(track);
+        }
+    }
+
+    /// Starts the lake check of the edited throw in the background (at the lowest CPU priority),
+    /// replacing one still running: the panels never wait for a throw to be simulated.
+    pub fn start_lake_check(&mut self) {
+        self.lake_stale = false;
+        self.lake_track = None;
+        self.lake_exit = None;
+        self.lake_job = None;
+        let Some(rect) = lake::lake_rect(&self.edit) else {
+            return;
+        };
+        let preset = self.edit.clone();
+        let (sender, receiver) = std::sync::mpsc::channel();
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let flag = stop.clone();
+        std::thread::spawn(move || {
+            super::experiments::lower_priority();
+            let given_up = || flag.load(std::sync::atomic::Ordering::Relaxed);
+            let _ = sender.send(lake::flat_track_until(&preset, &given_up).ok());
+        });
+        self.lake_job = Some(LakeJob {
+            receiver,
+            stop,
+            rect,
+        });
+    }
+
+    /// Takes the background lake check's result when it has come; true while one is running.
+    pub fn poll_lake_check(&mut self) -> bool {
+        let Some(job) = &self.lake_job else {
+            return false;
+        };
+        match job.receiver.try_recv() {
+            Ok(track) => {
+                if let Some(track) = track {
+                    self.lake_exit = lake::leaves_lake(track, job.rect, lake::WARN_MARGIN);
+                    self.lake_track = Some(track);
+                }
+                self.lake_job = None;
+                false
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => true,
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                self.lake_job = None;
+                false
+            }
         }
     }
 
@@ -1459,6 +1526,36 @@ mod tests {
         assert!(r.velocity[1] < 0.0);
         // A click is not a throw.
         assert_eq!(gesture_launch(&base, Vec2::new(1.0, 1.0), 600.0, 0.0), base);
+    }
+
+    /// The panels start the lake check in the background and take its answer when it comes:
+    /// the same answer as the check done in place.
+    #[test]
+    fn the_lake_check_runs_in_the_background() {
+        let mut p = Preset::default();
+        p.water.size = [10.0, 3.0];
+        p.water.cell = 0.05;
+        let v = DVec3::from_array(p.launch.velocity);
+        p.launch.velocity = (v * 1.5).to_array();
+        let mut m = Model::new(p, None, Options::default()).unwrap();
+        let in_place = m.lake_exit.clone().expect("leaves the lake");
+        m.lake_stale = true;
+        m.start_lake_check();
+        assert_eq!(m.lake_exit, None, "not answered yet");
+        let t0 = Instant::now();
+        while m.poll_lake_check() {
+            assert!(t0.elapsed().as_secs() < 60, "no answer");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        assert_eq!(m.lake_exit, Some(in_place));
+        // A newer edit replaces a check still running; its answer never lands.
+        m.lake_stale = true;
+        m.start_lake_check();
+        m.start_lake_check();
+        while m.poll_lake_check() {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        assert!(m.lake_exit.is_some());
     }
 
     #[test]

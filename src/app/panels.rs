@@ -79,9 +79,13 @@ impl Model {
             self.shortcuts_ui(&ctx, actions);
         }
         self.refresh_shown();
-        // The lake check runs the throw on flat water: once a drag has ended, not every frame.
+        // The lake check runs the throw on flat water, in the background: once a drag has
+        // ended, not every frame.
         if self.lake_stale && !ctx.input(|i| i.pointer.any_down()) {
-            self.refresh_lake();
+            self.start_lake_check();
+        }
+        if self.poll_lake_check() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(50));
         }
         if self.status.as_ref().is_some_and(|s| s.expired()) {
             self.status = None;

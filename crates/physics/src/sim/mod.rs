@@ -2079,8 +2079,7 @@ mod tests {
     /// the 7. The hop is shorter than the stone, so the two touches are one contact.
     #[test]
     fn steps_across_ticks_do_not_jump_a_short_hop() {
-        let text = include_str!("../../assets/presets/record_throw.ron");
-        let mut p = crate::preset::parse(text, std::path::Path::new("record_throw.ron")).unwrap();
+        let mut p = crate::preset::shipped("record_throw").unwrap().unwrap();
         p.water.enabled = false;
         p.physics.wetted_memory = None;
         p.launch.position[2] = 0.3;
@@ -2252,8 +2251,7 @@ mod tests {
     #[test]
     fn meshes_converge_on_the_columns_surface() {
         use crate::sim::hydro::{evaluate, Scratch};
-        let text = include_str!("../../assets/presets/magic_angle.ron");
-        let mut p = crate::preset::parse(text, std::path::Path::new("magic_angle.ron")).unwrap();
+        let mut p = crate::preset::shipped("magic_angle").unwrap().unwrap();
         p.water.wavy_contact = true;
         p.physics.wetted_memory = None;
         let mesh = |segments: u32| {

@@ -38,29 +38,29 @@ pub enum PresetError {
 
 /// The shipped presets (`assets/presets/`), by file stem, as compiled in.
 pub const SHIPPED: [(&str, &str); 9] = [
-    ("default", include_str!("../assets/presets/default.ron")),
+    ("default", include_str!("../../../assets/presets/default.ron")),
     (
         "magic_angle",
-        include_str!("../assets/presets/magic_angle.ron"),
+        include_str!("../../../assets/presets/magic_angle.ron"),
     ),
     (
         "record_throw",
-        include_str!("../assets/presets/record_throw.ron"),
+        include_str!("../../../assets/presets/record_throw.ron"),
     ),
-    ("too_slow", include_str!("../assets/presets/too_slow.ron")),
-    ("too_steep", include_str!("../assets/presets/too_steep.ron")),
-    ("paper", include_str!("../assets/presets/paper.ron")),
+    ("too_slow", include_str!("../../../assets/presets/too_slow.ron")),
+    ("too_steep", include_str!("../../../assets/presets/too_steep.ron")),
+    ("paper", include_str!("../../../assets/presets/paper.ron")),
     (
         "bocquet_plate",
-        include_str!("../assets/presets/bocquet_plate.ron"),
+        include_str!("../../../assets/presets/bocquet_plate.ron"),
     ),
     (
         "clanet_disc",
-        include_str!("../assets/presets/clanet_disc.ron"),
+        include_str!("../../../assets/presets/clanet_disc.ron"),
     ),
     (
         "no_spin_dive",
-        include_str!("../assets/presets/no_spin_dive.ron"),
+        include_str!("../../../assets/presets/no_spin_dive.ron"),
     ),
 ];
 
@@ -253,7 +253,7 @@ mod tests {
 
     #[test]
     fn every_shipped_preset_is_compiled_in_and_parses() {
-        let files = fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/presets"))
+        let files = fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/presets"))
             .unwrap()
             .filter(|e| {
                 e.as_ref()
@@ -266,7 +266,7 @@ mod tests {
         assert_eq!(files, SHIPPED.len());
         for (stem, text) in SHIPPED {
             let from_file = load(Path::new(&format!(
-                "{}/assets/presets/{stem}.ron",
+                "{}/../../assets/presets/{stem}.ron",
                 env!("CARGO_MANIFEST_DIR")
             )))
             .unwrap();
