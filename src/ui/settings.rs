@@ -643,6 +643,15 @@ pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
         );
         c
     });
+    changed |= paper_group_ui(ui, physics, marks);
+    changed
+}
+
+/// The Physics panel's collapsed group: the paper's laws, the loading options, the integrator,
+/// the free body's variants and the tick. Marked (and open the first time) when a value in there
+/// differs from the loaded preset.
+fn paper_group_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
+    let mut changed = false;
     // Marked when a value in there differs from the preset (and open, the first time).
     let differs = marks.any_outside(CLASS_PHYSICS);
     let title = if differs {

@@ -38,7 +38,10 @@ pub enum PresetError {
 
 /// The shipped presets (`assets/presets/`), by file stem, as compiled in.
 pub const SHIPPED: [(&str, &str); 9] = [
-    ("default", include_str!("../../../assets/presets/default.ron")),
+    (
+        "default",
+        include_str!("../../../assets/presets/default.ron"),
+    ),
     (
         "magic_angle",
         include_str!("../../../assets/presets/magic_angle.ron"),
@@ -47,8 +50,14 @@ pub const SHIPPED: [(&str, &str); 9] = [
         "record_throw",
         include_str!("../../../assets/presets/record_throw.ron"),
     ),
-    ("too_slow", include_str!("../../../assets/presets/too_slow.ron")),
-    ("too_steep", include_str!("../../../assets/presets/too_steep.ron")),
+    (
+        "too_slow",
+        include_str!("../../../assets/presets/too_slow.ron"),
+    ),
+    (
+        "too_steep",
+        include_str!("../../../assets/presets/too_steep.ron"),
+    ),
     ("paper", include_str!("../../../assets/presets/paper.ron")),
     (
         "bocquet_plate",
