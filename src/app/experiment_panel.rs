@@ -53,6 +53,8 @@ pub fn experiments_ui(
             return;
         };
         ui.separator();
+        // The charts share the value along x; it is named once, above them (an axis label
+        // under each would crowd out the tick numbers).
         let table_width = 330.0_f32.min(0.35 * ui.available_width());
         let chart_width = ((ui.available_width() - table_width - 24.0) / 2.0).max(120.0);
         for (name, axis, color, value) in [
@@ -64,10 +66,17 @@ pub fn experiments_ui(
             ),
             ("Distance", "distance (m)", DISTANCE, |p| p.distance),
         ] {
-            let size = egui::vec2(chart_width, (height - 8.0).max(80.0));
-            if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), value, size) {
-                actions.push(Action::LoadExperimentPoint(i));
-            }
+            let size = egui::vec2(chart_width, (height - 56.0).max(80.0));
+            ui.vertical(|ui| {
+                ui.weak(format!(
+                    "{name} against {} ({})",
+                    e.spec.knob.name().to_lowercase(),
+                    e.spec.knob.unit()
+                ));
+                if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), value, size) {
+                    actions.push(Action::LoadExperimentPoint(i));
+                }
+            });
         }
         ui.separator();
         ui.vertical(|ui| table_ui(ui, e, chosen, actions));
@@ -188,7 +197,6 @@ fn chart_ui(
     let response = Plot::new(("experiment", name))
         .width(size.x)
         .height(size.y)
-        .x_axis_label(format!("{} ({})", e.spec.knob.name(), e.spec.knob.unit()))
         .allow_drag(false)
         .allow_zoom(false)
         .allow_scroll(false)
@@ -197,6 +205,8 @@ fn chart_ui(
         .include_x(hi)
         .include_y(0.0)
         .y_axis_label(axis)
+        // Labels every 10° on a chart a third of the window wide (egui_plot asks for 60 points).
+        .custom_x_axes(vec![egui_plot::AxisHints::new_x().label_spacing(28.0..=44.0)])
         .show(ui, |plot| {
             plot.line(
                 Line::new(name, PlotPoints::from(pts.clone())).color(color.gamma_multiply(0.6)),
