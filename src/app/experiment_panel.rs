@@ -206,7 +206,9 @@ fn chart_ui(
         .include_y(0.0)
         .y_axis_label(axis)
         // Labels every 10° on a chart a third of the window wide (egui_plot asks for 60 points).
-        .custom_x_axes(vec![egui_plot::AxisHints::new_x().label_spacing(28.0..=44.0)])
+        .custom_x_axes(vec![
+            egui_plot::AxisHints::new_x().label_spacing(28.0..=44.0)
+        ])
         .show(ui, |plot| {
             plot.line(
                 Line::new(name, PlotPoints::from(pts.clone())).color(color.gamma_multiply(0.6)),
