@@ -20,3 +20,7 @@ pub mod ui;
 /// The physics and the preset format live in the `stoneskip-physics` crate, which draws nothing;
 /// they keep their paths here (`stoneskip::sim`, `stoneskip::preset`).
 pub use stoneskip_physics::{preset, sim};
+
+/// Bocquet's 2D flat plate, the yardstick of the 3D solver: a crate of its own (no ties to the
+/// physics).
+pub use stoneskip_reference as reference;

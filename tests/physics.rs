@@ -8,8 +8,8 @@ mod common;
 
 use common::{bocquet_plate as bocquet_plate_preset, clanet_disc, rel};
 use glam::DVec3;
+use stoneskip::reference::{self, Integration, Plate2d, State2d};
 use stoneskip::sim::params::{ForceLaw, Integrator, Preset};
-use stoneskip::sim::reference::{self, Integration, Plate2d, State2d};
 use stoneskip::sim::scenario::{at_impact, min_speed, IMPACT_CLEARANCE};
 use stoneskip::sim::{Outcome, Simulation};
 

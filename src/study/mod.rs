@@ -32,8 +32,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Once;
 use std::time::Instant;
 
+use crate::reference::ReferenceError;
 use crate::sim::params::ParamError;
-use crate::sim::reference::ReferenceError;
 use crate::sim::SimError;
 
 /// The studies `run_study` knows, in the order `all` runs them.

@@ -6,10 +6,10 @@
 #![allow(dead_code, unused_imports, clippy::field_reassign_with_default)]
 
 use rayon::prelude::*;
+use stoneskip::reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
 use stoneskip::sim::params::{
     Attitude, ForceLaw, Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams,
 };
-use stoneskip::sim::reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
 use stoneskip::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
 use stoneskip::sim::{SimError, Simulation};
 

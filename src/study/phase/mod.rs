@@ -10,9 +10,9 @@
 
 use rayon::prelude::*;
 
+use crate::reference::{self, MinSpeedOptions, Plate2d};
 use crate::sim::params::ForceLaw;
 use crate::sim::params::Preset;
-use crate::sim::reference::{self, MinSpeedOptions, Plate2d};
 use crate::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
 use crate::sim::Simulation;
 

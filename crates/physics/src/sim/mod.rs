@@ -26,7 +26,6 @@ pub mod kernel;
 pub mod memory;
 pub mod metrics;
 pub mod params;
-pub mod reference;
 pub mod scenario;
 pub mod smooth;
 pub mod stone;
