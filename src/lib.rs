@@ -13,7 +13,6 @@ pub mod app;
 #[cfg(feature = "app")]
 pub mod render;
 pub mod report;
-pub mod study;
 #[cfg(feature = "app")]
 pub mod ui;
 
@@ -24,3 +23,6 @@ pub use stoneskip_physics::{preset, sim};
 /// Bocquet's 2D flat plate, the yardstick of the 3D solver: a crate of its own (no ties to the
 /// physics).
 pub use stoneskip_reference as reference;
+
+/// The studies live in the `stoneskip-lab` crate; `stoneskip study` reaches them here.
+pub use stoneskip_lab::study;

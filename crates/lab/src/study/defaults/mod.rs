@@ -4,8 +4,6 @@
 //! accuracy study's three throws, then a check of the chosen settings together, and a comparison
 //! with `Preset::default()` and the shipped presets (`assets/presets/*.ron`).
 
-use std::path::Path;
-
 use rayon::prelude::*;
 
 use crate::sim::params::{Integrator, Preset};
@@ -140,25 +138,15 @@ fn shipped_of(name: &str, p: &Preset) -> Shipped {
     }
 }
 
-/// `Preset::default()` and every preset in `assets/presets` (read at run time; missing folder:
-/// only the default).
+/// `Preset::default()` and every shipped preset (`assets/presets`, as compiled in), in file-name
+/// order.
 pub fn shipped_presets() -> Vec<Shipped> {
     let mut out = vec![shipped_of("Preset::default()", &Preset::default())];
-    let dir = Path::new("assets/presets");
-    if let Ok(rd) = std::fs::read_dir(dir) {
-        let mut files: Vec<_> = rd
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "ron"))
-            .collect();
-        files.sort();
-        for f in files {
-            if let Ok(p) = crate::preset::load(&f) {
-                let n = f.file_name().map_or_else(
-                    || f.display().to_string(),
-                    |n| n.to_string_lossy().into_owned(),
-                );
-                out.push(shipped_of(&n, &p));
-            }
+    let mut stems: Vec<&str> = crate::preset::SHIPPED.iter().map(|(s, _)| *s).collect();
+    stems.sort_unstable();
+    for stem in stems {
+        if let Some(Ok(p)) = crate::preset::shipped(stem) {
+            out.push(shipped_of(&format!("{stem}.ron"), &p));
         }
     }
     out

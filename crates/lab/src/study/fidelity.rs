@@ -48,39 +48,39 @@ pub const MAX_EARLIER_CONTACT: f64 = 0.3;
 pub const SHIPPED: [(&str, &str); 9] = [
     (
         "default",
-        include_str!("../../docs/studies/fidelity/presets/default.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/default.ron"),
     ),
     (
         "magic_angle",
-        include_str!("../../docs/studies/fidelity/presets/magic_angle.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/magic_angle.ron"),
     ),
     (
         "too_steep",
-        include_str!("../../docs/studies/fidelity/presets/too_steep.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/too_steep.ron"),
     ),
     (
         "too_slow",
-        include_str!("../../docs/studies/fidelity/presets/too_slow.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/too_slow.ron"),
     ),
     (
         "record_throw",
-        include_str!("../../docs/studies/fidelity/presets/record_throw.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/record_throw.ron"),
     ),
     (
         "paper",
-        include_str!("../../docs/studies/fidelity/presets/paper.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/paper.ron"),
     ),
     (
         "bocquet_plate",
-        include_str!("../../docs/studies/fidelity/presets/bocquet_plate.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/bocquet_plate.ron"),
     ),
     (
         "clanet_disc",
-        include_str!("../../docs/studies/fidelity/presets/clanet_disc.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/clanet_disc.ron"),
     ),
     (
         "no_spin_dive",
-        include_str!("../../docs/studies/fidelity/presets/no_spin_dive.ron"),
+        include_str!("../../../../docs/studies/fidelity/presets/no_spin_dive.ron"),
     ),
 ];
 
@@ -2052,7 +2052,7 @@ mod tests {
     fn every_shipped_preset_is_listed_and_parses() {
         let files = std::fs::read_dir(concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/docs/studies/fidelity/presets"
+            "/../../docs/studies/fidelity/presets"
         ))
         .unwrap()
         .filter(|e| {

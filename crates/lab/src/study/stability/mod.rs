@@ -400,7 +400,7 @@ pub fn sliver_errors(aspect: f64, offset: DVec3) -> (f64, f64) {
 /// The shipped paper preset (assets/presets/paper.ron): Paper law on every wetted face, C_l 1.4,
 /// the paper's integrator, locked attitude; the water off (it does not act on the stone).
 pub fn paper_preset() -> Result<Preset, StudyError> {
-    let text = include_str!("../../../assets/presets/paper.ron");
+    let text = include_str!("../../../../../assets/presets/paper.ron");
     let mut p = crate::preset::parse(text, std::path::Path::new("assets/presets/paper.ron"))
         .map_err(|e| StudyError::Failed(e.to_string()))?;
     p.water.enabled = false;
