@@ -60,6 +60,11 @@ fn swell_grazes_are_listed_but_not_counted() {
     // throws read the ambient water: issue 38).
     p.water.wavy_contact = true;
     p.physics.wetted_memory = None;
+    // The 2 cm columns and the 6 m lake the rule was written on (the shipped lake is coarser and
+    // wider since issue 39; the stone reads its columns here, so they set the run).
+    p.water.cell = 0.02;
+    p.water.size = [40.0, 6.0];
+    p.water.origin = Some([-2.0, -3.0]);
     let g = p.physics.gravity;
     let (contacts, skips, hops) = run(&p);
     let grazes: Vec<_> = contacts.iter().filter(|c| c.graze).collect();

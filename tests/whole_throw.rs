@@ -145,6 +145,7 @@ fn a_skip_is_a_hop_you_can_see() {
     wavy.physics.wetted_memory = None;
     wavy.water.size = [40.0, 12.0];
     wavy.water.origin = Some([-2.0, -6.0]);
+    wavy.water.cell = 0.02;
     let s = run(&wavy);
     assert!(
         s.contacts.iter().any(|c| c.touches > 1),
