@@ -34,8 +34,17 @@ fn harness(m: Model) -> Harness<'static, Model> {
 
 /// [`harness`] in a window of `size` points (a tall one shows every row without scrolling).
 fn harness_sized(m: Model, size: [f32; 2]) -> Harness<'static, Model> {
+    harness_with(m, size, true)
+}
+
+/// The harness; `check_names`: every settle (`run_ok`) also checks that each widget on screen
+/// has an accessible name. The monkey leaves it off: it reaches states (rows that appear with
+/// a switch) whose names `the_physics_panel_leads_with_what_a_class_changes` does not cover, and
+/// its invariants are the ones it states.
+fn harness_with(m: Model, size: [f32; 2], check_names: bool) -> Harness<'static, Model> {
     Harness::builder()
         .with_size(size)
+        .with_accessibility_check(check_names)
         .with_max_steps(10_000)
         // As the app does: a glyph no font has (a typed "٣") is drawn as a box.
         .allow_missing_glyphs()
@@ -335,7 +344,7 @@ fn a_monkey_cannot_break_the_app() {
     m.library.refresh();
     let shipped_dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/presets");
     let shipped_before = snapshot(&shipped_dir);
-    let mut h = harness(m);
+    let mut h = harness_with(m, [1280.0, 800.0], false);
     h.run_ok();
     let mut dice = Dice(seed);
     let strings = monkey_strings();
@@ -580,6 +589,16 @@ fn the_physics_panel_leads_with_what_a_class_changes() {
         .is_some());
     assert!(h
         .query_by_role_and_label(Role::Slider, "Time step")
+        .is_some());
+    // Every section open in a window tall enough to show it all: `run_ok` checks that every
+    // widget has an accessible name (the monkey found the Display panel's two sliders without).
+    for section in ["Water", "Wobble (angular velocity)", "Display"] {
+        h.get_by_role_and_label(Role::DisclosureTriangle, section)
+            .click();
+        h.run_ok();
+    }
+    assert!(h
+        .query_by_role_and_label(Role::Slider, "Render scale")
         .is_some());
 }
 

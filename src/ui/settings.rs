@@ -1228,7 +1228,7 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
     );
     ui.checkbox(&mut view.show_splashes, "Splash cues");
     ui.horizontal(|ui| {
-        ui.label("Ripple contrast").on_hover_text(
+        let label = ui.label("Ripple contrast").on_hover_text(
             "Multiplies the water's slopes in the shading only (1 = true to the simulation)",
         );
         ui.add(
@@ -1237,10 +1237,11 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
                 .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .suffix("×"),
-        );
+        )
+        .labelled_by(label.id);
     });
     ui.horizontal(|ui| {
-        ui.label("Render scale").on_hover_text(
+        let label = ui.label("Render scale").on_hover_text(
             "Resolution of the 3D view while the throw animates (stills are always sharp); \
              lower it on a software renderer for a smoother picture",
         );
@@ -1250,7 +1251,8 @@ pub fn display_ui(ui: &mut Ui, view: &mut ViewSettings) {
                 .custom_parser(parse_finite)
                 .clamping(SliderClamping::Always)
                 .custom_formatter(|v, _| format!("{:.0} %", v * 100.0)),
-        );
+        )
+        .labelled_by(label.id);
     });
 }
 
