@@ -57,7 +57,7 @@ fn params(name: &str) -> HydroParams {
             .expect("shipped preset");
         HydroParams::from_physics(&p.physics)
     } else {
-        HydroParams::from_physics(&Physics::default())
+        HydroParams::from_physics(&Physics::version_1())
     }
 }
 

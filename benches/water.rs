@@ -50,7 +50,7 @@ fn square(n: usize, diag: bool, precision: Precision) -> WaterGrid {
 fn default_lake(precision: Precision) -> WaterGrid {
     let p = WaterParams {
         precision,
-        ..WaterParams::default()
+        ..WaterParams::version_1()
     };
     let mut w = WaterGrid::new(&p, p.origin_for([0.0, 0.0]), 9.81, 1000.0).expect("valid preset");
     seed_waves(&mut w);

@@ -66,7 +66,7 @@ fn sample_bits(s: &StepSample) -> Vec<u64> {
 /// The default throw on a narrow lake with the water coupled and wavy contact on; Adaptive at a
 /// tight tolerance and the longest tick, so that its ticks hold many steps.
 fn wavy_throw(integrator: Integrator) -> Preset {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     if integrator == Integrator::Adaptive {
         p.physics.tolerance = 1e-8;
         p.physics.dt = 0.02;
@@ -182,7 +182,7 @@ fn a_yielding_tick_always_progresses_and_steps_the_water_at_its_end() {
 /// axis, Paper law, Adaptive at 7.4·10⁻⁷, water and wavy contact on: 3.6·10⁷ force evaluations per
 /// simulated second, about 36 000 in each of its 1.37 ms ticks.
 fn s1b() -> Preset {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.stone.shape = Shape::Plate {
         length: 0.44078431372549015,
         width: 0.44078431372549015,
@@ -387,7 +387,7 @@ fn a_throw_under_a_tight_frame_budget_is_the_headless_run() {
 #[test]
 fn a_normal_throw_runs_every_tick_whole() {
     // The shipped default throw, on a narrower lake in coarser cells so the test runs in a moment.
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.water.size = [40.0, 4.0];
     p.water.cell = 0.1;
     let mut model = Model::new(p.clone(), None, Default::default()).unwrap();
@@ -463,7 +463,7 @@ fn running_behind_clears_once_the_physics_keeps_up() {
 /// 75 rev/s with 100 rad/s about every axis, free rotation, Adaptive at 3.5·10⁻¹⁰, 50 µs ticks,
 /// no water grid: 6.3·10⁸ force evaluations per simulated second.
 fn s1() -> Preset {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.stone.shape = Shape::Plate {
         length: 0.5999999655643478,
         width: 0.6,

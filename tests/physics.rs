@@ -181,7 +181,7 @@ fn energy_between_and_across_contacts() {
             (30.0, 4.0, 25.0),
             (15.0, 20.0, 5.0),
         ] {
-            let mut base = Preset::default();
+            let mut base = Preset::version_1();
             base.launch.attitude.tilt_deg = tilt;
             base.physics.integrator = integrator;
             base.physics.dt = if integrator == Integrator::Rk4 {
@@ -252,7 +252,7 @@ fn water_fitted_to_the_throw_covers_it() {
     // A flat-contact throw: the water does not act on the stone (wavy contact off), on the
     // library's default lake (40 × 12 m), far larger than the throw needs.
     p.water.wavy_contact = false;
-    p.water.size = stoneskip::sim::params::WaterParams::default().size;
+    p.water.size = stoneskip::sim::params::WaterParams::version_1().size;
     p.water.origin = None;
     let fitted = stoneskip::sim::scenario::fit_water_to_throw(&p, 2.0).unwrap();
     let area = |q: &Preset| q.water.size[0] * q.water.size[1];
@@ -287,7 +287,7 @@ fn water_fitted_to_the_throw_covers_it() {
 fn steps_report_the_forces_at_their_end() {
     use stoneskip::sim::hydro::{evaluate, FlatSurface, HydroParams, Pose, Scratch};
     for integrator in Integrator::ALL {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         p.physics.integrator = integrator;
         if integrator != Integrator::Adaptive {
@@ -339,7 +339,7 @@ fn steps_report_the_forces_at_their_end() {
 /// Time and distance at which a throw too steep to skip (50° at 6 m/s, Clanet et al. 2004: no
 /// bounce above ~45°) sinks in its first contact.
 fn sink_point(integrator: Integrator, dt: f64, tolerance: f64) -> (f64, f64) {
-    let mut base = Preset::default();
+    let mut base = Preset::version_1();
     base.water.enabled = false;
     base.physics.integrator = integrator;
     base.physics.dt = dt;
@@ -394,7 +394,7 @@ fn low_flight_over_a_crest_touches_inside_a_tick() {
     }
     let (dt, wavelength) = (0.005, 0.2);
     for integrator in [Integrator::Adaptive, Integrator::Rk4] {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.stone = StoneParams {
             shape: Shape::Disk {
                 radius: 0.01,

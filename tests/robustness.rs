@@ -99,7 +99,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                 (water, wavy, paper_clamp, f64_water, planing),
                 (smooth, meridian, around, memory),
             )| {
-                let mut p = Preset::default();
+                let mut p = Preset::version_1();
                 p.stone = StoneParams {
                     shape,
                     mass,
@@ -182,7 +182,7 @@ proptest! {
 fn corner_cases_end_cleanly() {
     let mut cases = Vec::new();
     let base = {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         p.physics.max_time = 3.0;
         p

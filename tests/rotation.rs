@@ -334,7 +334,7 @@ fn planing_centre_precesses_less() {
 /// locked the same throw would go straight only without bank.
 #[test]
 fn banked_spinning_stone_curves() {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.water.enabled = false;
     p.physics.rotation = Rotation::Free;
     p.launch.attitude.bank_deg = 10.0;
@@ -347,7 +347,7 @@ fn banked_spinning_stone_curves() {
 /// With the attitude locked, spin and wobble change nothing, bit for bit.
 #[test]
 fn locked_results_ignore_spin() {
-    let mut a = Preset::default();
+    let mut a = Preset::version_1();
     a.water.enabled = false;
     a.physics.rotation = Rotation::Locked;
     a.launch.spin = 0.0;
@@ -370,7 +370,7 @@ fn tumbling_stone_grazes_inside_a_tick() {
     use stoneskip::sim::integrate::flight;
     let dt = 0.005;
     for integrator in [Integrator::Adaptive, Integrator::Rk4, Integrator::Paper] {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         p.stone = StoneParams {
             shape: Shape::Disk {

@@ -20,14 +20,14 @@ use stoneskip::sim::params::{Preset, Shape};
 fn presets() -> (Preset, Preset) {
     let a = Preset {
         name: "old".into(),
-        ..Preset::default()
+        ..Preset::version_1()
     };
     let mut b = Preset {
         name:
             "new preset with a much longer name, so that the two files have different lengths and \
                a file cut short or mixed from both can never parse as either"
                 .into(),
-        ..Preset::default()
+        ..Preset::version_1()
     };
     b.stone.shape = Shape::Disk {
         radius: 0.04,

@@ -510,7 +510,7 @@ fn automatic_step_is_under_the_courant_limit() {
             cell,
             depth,
             diagonal_pipes: diag,
-            ..WaterParams::default()
+            ..WaterParams::version_1()
         };
         let p = WaterParams {
             size: if cell < 0.01 { [2.0, 2.0] } else { p.size },
@@ -861,7 +861,7 @@ fn default_lake_from_the_preset() {
 fn default_lake(precision: Precision, tol: f64) {
     let p = WaterParams {
         precision,
-        ..WaterParams::default()
+        ..WaterParams::version_1()
     };
     let origin = p.origin_for([0.0, 0.0]);
     let mut w = WaterGrid::new(&p, origin, G, 1000.0).expect("default is valid");
@@ -929,7 +929,7 @@ fn swell_travels_along_its_heading() {
                 wavelength: 2.0,
                 heading_deg: heading,
             }),
-            ..WaterParams::default()
+            ..WaterParams::version_1()
         };
         let mut w = WaterGrid::new(&p, [0.0, 0.0], G, 1000.0).expect("valid");
         let c = (G * 0.3f64).sqrt();
@@ -990,7 +990,7 @@ fn invalid_configurations_are_refused() {
     }
     let p = WaterParams {
         cell: 0.001,
-        ..WaterParams::default()
+        ..WaterParams::version_1()
     };
     assert_eq!(
         WaterGrid::new(&p, [0.0, 0.0], G, 1000.0).unwrap_err().field,
@@ -1031,7 +1031,7 @@ mod properties {
                 limiter: if clamp { Limiter::PaperClamp } else { Limiter::MassConserving },
                 precision: if f32 { Precision::F32 } else { Precision::F64 },
                 swell: swell.map(|(a, wl, h)| Swell { amplitude: a * depth, wavelength: wl, heading_deg: h }),
-                ..WaterParams::default()
+                ..WaterParams::version_1()
             };
             prop_assume!(p.validate().is_ok());
             let mut w = WaterGrid::new(&p, [1.0, -2.0], gravity, 1000.0).expect("valid preset");
@@ -1098,7 +1098,7 @@ fn water_momentum(w: &WaterGrid) -> DVec3 {
 fn stone_and_water_exchange_equal_impulses() {
     use stoneskip::sim::params::{Integrator, Preset};
     for integrator in Integrator::ALL {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = true;
         p.water.wavy_contact = false;
         p.water.damping = 0.0;
@@ -1185,7 +1185,7 @@ fn horizontal_impulse_becomes_pipe_momentum() {
 #[test]
 fn live_physics_changes_reach_the_water() {
     use stoneskip::sim::params::Preset;
-    let p = Preset::default();
+    let p = Preset::version_1();
     let mut sim = stoneskip::sim::Simulation::new(&p).unwrap();
     for _ in 0..10 {
         sim.tick();

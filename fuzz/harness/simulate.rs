@@ -187,7 +187,7 @@ fn numerics(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
 }
 
 pub fn preset(u: &mut Unstructured) -> Result<Preset> {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     stone(u, &mut p)?;
     launch(u, &mut p)?;
     physics(u, &mut p)?;

@@ -172,7 +172,7 @@ mod tests {
 
     #[test]
     fn an_untouched_preset_differs_nowhere() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         assert!(launch_differences(&p.launch, &p.launch).is_empty());
         assert!(section_differences(&p.stone, &p.stone).is_empty());
         assert!(section_differences(&p.physics, &p.physics).is_empty());
@@ -181,7 +181,7 @@ mod tests {
 
     #[test]
     fn a_faster_throw_is_one_difference_with_the_presets_value() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         let mut l = p.launch;
         let v = glam::DVec3::from_array(l.velocity);
         l.velocity = (v * 14.0 / v.length()).to_array();
@@ -207,7 +207,7 @@ mod tests {
 
     #[test]
     fn sections_name_each_changed_field() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         let mut physics = p.physics;
         physics.gravity = 1.62;
         physics.dt *= 0.5;

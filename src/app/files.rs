@@ -139,7 +139,7 @@ mod tests {
     #[test]
     fn the_csv_names_the_preset_and_its_units() {
         let dir = tempfile::tempdir().unwrap();
-        let mut preset = crate::sim::params::Preset::default();
+        let mut preset = crate::sim::params::Preset::version_1();
         preset.water.enabled = false;
         let mut sim = Simulation::new(&preset).unwrap();
         let mut samples = Vec::new();

@@ -136,7 +136,7 @@ mod tests {
 
     #[test]
     fn a_fast_or_turned_throw_leaves_the_default_lake() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.size = [20.0, 4.0];
         p.water.cell = 0.05;
         let lake = lake_rect(&p).unwrap();
@@ -163,7 +163,7 @@ mod tests {
 
     #[test]
     fn a_lake_too_large_for_the_cell_is_refused_not_coarsened() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         let long = rect([0.0, -1.0], [500.0, 1.0]);
         // 506 m × 8 m at 1 cm: 40 million columns.
         let mut fine = p.clone();

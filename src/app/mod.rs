@@ -108,7 +108,8 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
     Ok(())
 }
 
-/// The shipped default preset, or the built-in one.
+/// The shipped default preset: its file when one is found (so Save As starts beside it), else the
+/// same preset as compiled in ([`Preset::default`]).
 fn default_preset() -> (Preset, Option<PathBuf>) {
     let lib = PresetLibrary::discover();
     if let Some(p) = lib

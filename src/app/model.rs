@@ -1383,7 +1383,7 @@ mod tests {
 
     #[test]
     fn the_app_stops_stepping_once_it_rests() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.size = [6.0, 2.0];
         p.physics.max_time = 3.0;
         let mut m = Model::new(p, None, Options::default()).unwrap();
@@ -1413,7 +1413,7 @@ mod tests {
 
     #[test]
     fn step_runs_one_tick_and_stays_paused() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         let mut m = Model::new(p, None, Options::default()).unwrap();
         m.handle(Action::Step);
@@ -1444,7 +1444,7 @@ mod tests {
 
     #[test]
     fn warns_of_implausible_setups() {
-        let ok = Preset::default();
+        let ok = Preset::version_1();
         assert!(setup_warnings(&ok).is_empty(), "{:?}", setup_warnings(&ok));
         let mut fast = ok.clone();
         fast.physics.integrator = Integrator::Paper;
@@ -1507,7 +1507,7 @@ mod tests {
 
     #[test]
     fn a_drag_up_the_screen_throws_straight_ahead() {
-        let base = Preset::default().launch;
+        let base = Preset::version_1().launch;
         // A third of a 600 px view, straight up: 10 m/s along the camera's heading (0).
         let l = gesture_launch(&base, Vec2::new(0.0, -200.0), 600.0, 0.0);
         let v = DVec3::from_array(l.velocity);
@@ -1532,7 +1532,7 @@ mod tests {
     /// the same answer as the check done in place.
     #[test]
     fn the_lake_check_runs_in_the_background() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.size = [10.0, 3.0];
         p.water.cell = 0.05;
         let v = DVec3::from_array(p.launch.velocity);
@@ -1560,7 +1560,7 @@ mod tests {
 
     #[test]
     fn a_throw_that_would_leave_the_lake_is_told_and_fitted() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.size = [10.0, 3.0];
         p.water.cell = 0.05;
         let mut m = Model::new(p.clone(), None, Options::default()).unwrap();

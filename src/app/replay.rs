@@ -86,7 +86,7 @@ mod tests {
 
     /// A small lake so the test runs in a moment; the coupling to the water is on.
     fn preset() -> Preset {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.size = [6.0, 2.0];
         p.water.cell = 0.05;
         p.physics.max_time = 3.0;

@@ -522,7 +522,7 @@ mod tests {
 
     #[test]
     fn splashes_fade_out() {
-        let mut sim = Simulation::new(&crate::sim::params::Preset::default()).unwrap();
+        let mut sim = Simulation::new(&crate::sim::params::Preset::version_1()).unwrap();
         while sim.contacts().is_empty() && sim.time() < 2.0 {
             sim.tick();
         }
@@ -537,7 +537,7 @@ mod tests {
     /// across the sponge band; the copy is refreshed when the near field steps.
     #[test]
     fn the_near_field_is_drawn_over_the_lake_inside_its_patch() {
-        let mut p = crate::sim::params::Preset::default();
+        let mut p = crate::sim::params::Preset::version_1();
         p.water.enabled = true;
         p.water.wavy_contact = true;
         p.water.swell = None;

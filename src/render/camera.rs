@@ -450,7 +450,7 @@ mod tests {
 
     #[test]
     fn default_view_puts_horizon_in_upper_third() {
-        let cam = Camera::default_for(&Preset::default());
+        let cam = Camera::default_for(&Preset::version_1());
         // A far point on the horizon ahead.
         let far = cam.eye() + Vec3::new(5000.0, 0.0, -cam.eye().z);
         let p = cam.project(far, 320, 180).unwrap();
@@ -465,7 +465,7 @@ mod tests {
 
     #[test]
     fn controls_keep_the_eye_above_water() {
-        let mut cam = Camera::default_for(&Preset::default());
+        let mut cam = Camera::default_for(&Preset::version_1());
         cam.orbit(0.0, 3.0);
         assert!(cam.eye().z >= MIN_EYE_HEIGHT - 1e-5);
         cam.pan(0.0, -5000.0, 100.0);
@@ -474,7 +474,7 @@ mod tests {
 
     #[test]
     fn eye_is_behind_and_above_launch() {
-        let cam = Camera::default_for(&Preset::default());
+        let cam = Camera::default_for(&Preset::version_1());
         let eye = cam.eye();
         assert!(eye.x < 0.0 && eye.z > 0.3, "{eye:?}");
         assert!(cam.forward().x > 0.9);

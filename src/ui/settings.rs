@@ -1521,7 +1521,7 @@ mod tests {
 
     #[test]
     fn marks_pick_the_rows_that_differ_with_the_presets_value() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         let mut launch = p.launch;
         let v = glam::DVec3::from_array(launch.velocity);
         launch.velocity = (v * 14.0 / v.length()).to_array();
@@ -1567,7 +1567,7 @@ mod tests {
     /// rows' field names match the names `app::edits` gives), none is left unmarked.
     #[test]
     fn every_difference_a_panel_can_make_is_marked_on_its_row() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.physics.rotation = Rotation::Free;
         p.physics.integrator = Integrator::Adaptive;
         p.physics.ventilated = false;
@@ -1717,7 +1717,7 @@ mod tests {
             let mut w = WaterParams {
                 wavy_contact: true,
                 near_field: NearField::Spectral,
-                ..WaterParams::default()
+                ..WaterParams::version_1()
             };
             w.spectral = SpectralParams {
                 cells: 16,

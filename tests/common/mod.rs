@@ -28,7 +28,7 @@ pub fn rel(a: f64, b: f64) -> f64 {
 /// Bocquet's reference stone as a thin 3D plate (physics.md §6 "square ref. stone"): 10 cm square,
 /// 2 mm thick, 100 g, at 10° tilt, Bocquet law with C_l = C_f = 1, ventilated, locked, water off.
 pub fn bocquet_plate() -> Preset {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.name = "Bocquet plate".into();
     p.stone = StoneParams {
         shape: Shape::Plate {
@@ -73,7 +73,7 @@ pub fn clanet_stone() -> StoneParams {
 /// Clanet's disc at fixed attitude under `law`, without friction: the published 2D curves load the
 /// bottom face only.
 pub fn clanet_disc(law: ForceLaw, tilt_deg: f64) -> Preset {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.stone = clanet_stone();
     p.launch.attitude = Attitude {
         tilt_deg,
@@ -90,7 +90,7 @@ pub fn clanet_disc(law: ForceLaw, tilt_deg: f64) -> Preset {
 /// Clanet's disc as a free rigid body spun at `spin_rev_s` about its axis, Rosellini law (with its
 /// default friction), pressure at the faces, water off.
 pub fn clanet_free(tilt_deg: f64, spin_rev_s: f64) -> Preset {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.stone = clanet_stone();
     p.launch.attitude = Attitude {
         tilt_deg,

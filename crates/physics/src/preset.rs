@@ -6,7 +6,7 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::sim::params::{ParamError, Preset};
+use crate::sim::params::{schema_expected, with_schema, ParamError, Preset, LATEST_SCHEMA};
 
 /// Why a preset could not be read or written. Displayed as one line: `file:line:col: message`.
 #[derive(Debug, thiserror::Error)]
@@ -38,10 +38,7 @@ pub enum PresetError {
 
 /// The shipped presets (`assets/presets/`), by file stem, as compiled in.
 pub const SHIPPED: [(&str, &str); 9] = [
-    (
-        "default",
-        include_str!("../../../assets/presets/default.ron"),
-    ),
+    ("default", crate::sim::params::SHIPPED_DEFAULT_RON),
     (
         "magic_angle",
         include_str!("../../../assets/presets/magic_angle.ron"),
@@ -107,23 +104,49 @@ pub fn load(path: &Path) -> Result<Preset, PresetError> {
     parse(&text, path)
 }
 
-/// Parses and validates preset text; `path` names it in messages.
+/// Parses and validates preset text; `path` names it in messages. The omitted fields take the
+/// base of the file's `version` (design.md §3: 1, or omitted, the model before the fidelity work;
+/// 2 the shipped default).
 pub fn parse(text: &str, path: &Path) -> Result<Preset, PresetError> {
+    let syntax = |e: ron::error::SpannedError| PresetError::Syntax {
+        path: path.to_owned(),
+        line: e.span.start.line,
+        col: e.span.start.col,
+        message: explain(&e.code),
+    };
+    let version = schema_of(text);
+    if !(1..=LATEST_SCHEMA).contains(&version) {
+        return Err(PresetError::Invalid {
+            path: path.to_owned(),
+            line: locate_field(text, "version"),
+            error: ParamError::new("version", schema_expected(version)),
+        });
+    }
     let preset: Preset =
-        ron::Options::default()
-            .from_str(text)
-            .map_err(|e| PresetError::Syntax {
-                path: path.to_owned(),
-                line: e.span.start.line,
-                col: e.span.start.col,
-                message: explain(&e.code),
-            })?;
+        with_schema(version, || ron::Options::default().from_str(text)).map_err(syntax)?;
     preset.validate().map_err(|error| PresetError::Invalid {
         path: path.to_owned(),
         line: locate_field(text, &error.field),
         error,
     })?;
     Ok(preset)
+}
+
+/// The `version` a preset's text states (1 when it states none). A text that does not parse is
+/// read as version 1 here; the full parse then reports its error.
+fn schema_of(text: &str) -> u32 {
+    /// Only the version; every other field is skipped unread.
+    #[derive(serde::Deserialize)]
+    struct VersionOnly {
+        #[serde(default = "one")]
+        version: u32,
+    }
+    fn one() -> u32 {
+        1
+    }
+    ron::Options::default()
+        .from_str::<VersionOnly>(text)
+        .map_or(1, |v| v.version)
 }
 
 /// RON's message, with what was expected spelled out for the common cases.
@@ -259,6 +282,7 @@ fn sync_dir(dir: &Path) -> std::io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::params::{Physics, Rotation};
 
     #[test]
     fn every_shipped_preset_is_compiled_in_and_parses() {
@@ -285,10 +309,112 @@ mod tests {
 
     #[test]
     fn default_round_trips() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         let text = to_ron_string(&p).unwrap();
         let q = parse(&text, Path::new("x.ron")).unwrap();
         assert_eq!(p, q);
+    }
+
+    /// `Preset::default()` is the shipped default, one definition: the file as compiled in.
+    #[test]
+    fn the_compiled_in_default_is_valid() {
+        let shipped = shipped("default").unwrap().unwrap();
+        assert_eq!(Preset::default(), shipped);
+        Preset::default().validate().unwrap();
+        // The shipped model, not the paper's: free, smooth, buoyant, with air and memory.
+        let physics = Preset::default().physics;
+        assert!(physics.air.is_some() && physics.wetted_memory.is_some() && physics.buoyancy);
+    }
+
+    /// A `version: 2` preset's omitted fields are the shipped default's, part by part and inside
+    /// a part; what it names replaces only that field.
+    #[test]
+    fn version_2_omits_to_the_shipped_default() {
+        let shipped = Preset::default();
+        let bare = parse("(version: 2)", Path::new("v2.ron")).unwrap();
+        assert_eq!(
+            bare,
+            Preset {
+                version: 2,
+                ..shipped.clone()
+            }
+        );
+        let text = "(\n  version: 2,\n  launch: (spin: 10.0),\n  physics: (rotation: Locked),\n)";
+        let p = parse(text, Path::new("v2.ron")).unwrap();
+        assert_eq!(p.launch.spin, 10.0);
+        assert_eq!(p.launch.velocity, shipped.launch.velocity);
+        assert_eq!(p.physics.rotation, Rotation::Locked);
+        assert_eq!(
+            Physics {
+                rotation: shipped.physics.rotation,
+                ..p.physics
+            },
+            shipped.physics
+        );
+        assert_eq!((&p.stone, &p.water), (&shipped.stone, &shipped.water));
+        // The version may come last; it still decides every omitted field before it.
+        let late = parse("(launch: (spin: 10.0), version: 2)", Path::new("late.ron")).unwrap();
+        assert_eq!(late.physics, shipped.physics);
+    }
+
+    /// A `version: 1` preset (or one without a version) keeps its meaning: omitted fields are the
+    /// model before the fidelity work, whatever the shipped default became.
+    #[test]
+    fn version_1_files_keep_their_meaning() {
+        for text in ["()", "(version: 1)"] {
+            assert_eq!(
+                parse(text, Path::new("v1.ron")).unwrap(),
+                Preset::version_1()
+            );
+        }
+        let p = parse("(physics: (rotation: Free))", Path::new("v1.ron")).unwrap();
+        assert_eq!(
+            p.physics,
+            Physics {
+                rotation: Rotation::Free,
+                ..Physics::version_1()
+            }
+        );
+        assert!(p.physics.air.is_none() && p.physics.wetted_memory.is_none());
+    }
+
+    #[test]
+    fn an_unknown_version_names_its_line_and_both_schemas() {
+        let e = parse("(\n  name: \"x\",\n  version: 3,\n)", Path::new("v3.ron"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("v3.ron:3:"), "{e}");
+        assert!(e.contains("version") && e.contains("found 3"), "{e}");
+        assert!(e.contains("expected 1") && e.contains("or 2"), "{e}");
+        let mut p = Preset::version_1();
+        p.version = 0;
+        assert!(save(&std::env::temp_dir().join("stoneskip-v0.ron"), &p).is_err());
+    }
+
+    /// A saved preset means the same under either schema: every field whose two bases differ is
+    /// written, `None` included (the shipped default names a lake corner, air and a memory).
+    #[test]
+    fn a_saved_preset_reads_back_under_either_version() {
+        let mut cases: Vec<Preset> = SHIPPED
+            .iter()
+            .map(|(stem, text)| parse(text, Path::new(stem)).unwrap())
+            .collect();
+        let mut bare = Preset::default();
+        bare.water.origin = None;
+        bare.physics.air = None;
+        bare.physics.wetted_memory = None;
+        cases.push(bare);
+        cases.push(Preset::version_1());
+        for p in cases {
+            for version in 1..=LATEST_SCHEMA {
+                let p = Preset {
+                    version,
+                    ..p.clone()
+                };
+                let text = to_ron_string(&p).unwrap();
+                assert_eq!(parse(&text, Path::new("rt.ron")).unwrap(), p, "{text}");
+            }
+        }
     }
 
     #[test]
@@ -378,7 +504,7 @@ mod tests {
     /// true, so a preset saved without it reads as before; when named it round-trips.
     #[test]
     fn steps_across_ticks_is_saved_only_when_set() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         assert!(!p.physics.steps_across_ticks);
         assert!(!to_ron_string(&p).unwrap().contains("steps_across_ticks"));
         let text = "(\n  physics: (steps_across_ticks: true),\n)";
@@ -393,7 +519,7 @@ mod tests {
     /// lens is refused, with the field named, on wavy water, for a disk, or with a faceted spin.
     #[test]
     fn quadrature_is_saved_only_when_smooth_and_refused_where_it_cannot_apply() {
-        let p = Preset::default();
+        let p = Preset::version_1();
         assert!(p.stone.quadrature.is_faces());
         assert!(!to_ron_string(&p).unwrap().contains("quadrature"));
         let flat = "(\n  stone: (quadrature: Smooth(meridian: 16, around: 6)),\n  water: (wavy_contact: false),\n)";
@@ -440,7 +566,7 @@ mod tests {
         let path = dir.path().join("p.ron");
         let p = Preset {
             name: "saved".into(),
-            ..Preset::default()
+            ..Preset::version_1()
         };
         save(&path, &p).unwrap();
         assert_eq!(load(&path).unwrap(), p);

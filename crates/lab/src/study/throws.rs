@@ -1,7 +1,7 @@
 //! The throws the studies use, stated at impact as the literature states them (Clanet et al. 2004;
 //! design.md §8): speed U, impact angle β below the horizontal, attack (tilt) angle α, the stone's
 //! lowest point just above the surface (`scenario::at_impact`). The stone is the shipped default
-//! (`Preset::default()`: a 5 cm, 100 g lens, Rosellini law, locked attitude); the phase study uses
+//! (`Preset::version_1()`: a 5 cm, 100 g lens, Rosellini law, locked attitude); the phase study uses
 //! Clanet's aluminium disc (R 2.5 cm, e 2.75 mm, 14.579 g).
 
 use crate::reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
@@ -73,7 +73,7 @@ pub fn throw_list(quick: bool) -> Vec<Throw> {
 pub fn base(integrator: Integrator, dt: f64, tolerance: f64) -> Preset {
     let mut p = Preset {
         name: "study".into(),
-        ..Preset::default()
+        ..Preset::version_1()
     };
     p.water.enabled = false;
     p.physics.integrator = integrator;
@@ -102,7 +102,7 @@ pub fn preset(t: &Throw, base: &Preset) -> Result<Preset, StudyError> {
 pub fn clanet_disc(law: ForceLaw, tilt_deg: f64) -> Preset {
     let mut p = Preset {
         name: "Clanet disc".into(),
-        ..Preset::default()
+        ..Preset::version_1()
     };
     p.stone = StoneParams {
         shape: Shape::Disk {

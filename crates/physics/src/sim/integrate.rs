@@ -1023,13 +1023,13 @@ mod tests {
         use crate::sim::hydro::FlatSurface;
         use crate::sim::params::{AxialSpin, Physics};
         // The built-in pebble: a 5 cm, 12 mm, 100 g lens of 32 segments.
-        let stone = Stone::new(&StoneParams::default()).unwrap();
+        let stone = Stone::new(&StoneParams::version_1()).unwrap();
         let dynamics = |axial_spin: AxialSpin| {
             let physics = Physics {
                 rotation: Rotation::Free,
                 axial_spin,
                 buoyancy: true,
-                ..Physics::default()
+                ..Physics::version_1()
             };
             Dynamics {
                 stone: &stone,

@@ -1857,7 +1857,7 @@ mod tests {
     /// a planing centre is refused with the field named, and the run goes on as it was.
     #[test]
     fn live_physics_keeps_the_smooth_quadrature_consistent() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         p.stone.quadrature = params::Quadrature::Smooth {
             meridian: 8,
@@ -1888,7 +1888,7 @@ mod tests {
     /// so the run is bit for bit the one that kept them all, stone and water alike.
     #[test]
     fn a_costly_ticks_face_loads_are_flushed_with_the_same_results() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.physics.tolerance = 1e-9;
         p.physics.dt = 0.02;
         p.physics.max_time = 0.6;
@@ -1936,7 +1936,7 @@ mod tests {
     /// within the guard plus one step's attempts.
     #[test]
     fn a_tick_past_its_evaluation_guard_is_reported_diverged() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.stone.shape = params::Shape::Disk {
             radius: 0.181,
             thickness: 0.0764,
@@ -1976,7 +1976,7 @@ mod tests {
     /// first touch of the centre of mass would be.
     #[test]
     fn the_launch_arc_is_the_runs_first_flight() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.launch.position = [0.0, 0.0, 0.3];
         p.launch.velocity = [12.0, 0.0, 0.0];
         let stone = Stone::new(&p.stone).unwrap();
@@ -2013,7 +2013,7 @@ mod tests {
     /// and keeps stepping.
     #[test]
     fn unread_water_is_left_at_rest_without_changing_the_stone() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.wavy_contact = false;
         p.water.cell = 0.05;
         p.water.size = [16.0, 2.0];
@@ -2041,7 +2041,7 @@ mod tests {
     /// tolerance (relative to the error norm's scales), so `steps × tolerance` relative.
     #[test]
     fn steps_across_ticks_take_fewer_evaluations_for_the_same_throw() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         p.physics.max_time = 10.0;
         let run = |across: bool, tolerance: f64| {
@@ -2102,7 +2102,7 @@ mod tests {
     /// run, where the stone's own state, up to a step ahead, is many times farther off.
     #[test]
     fn steps_across_ticks_draw_the_pose_at_the_ticks_time() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         let mut tick_bound = Simulation::new(&p).unwrap();
         p.physics.steps_across_ticks = true;
@@ -2126,7 +2126,7 @@ mod tests {
     /// app's case: the rings) the option changes nothing, bit for bit.
     #[test]
     fn steps_across_ticks_keep_the_clock_and_leave_a_coupled_run_alone() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         p.physics.steps_across_ticks = true;
         let dt = p.physics.dt;
@@ -2148,7 +2148,7 @@ mod tests {
             "{ahead} ticks ahead, longest step {longest}"
         );
 
-        let mut q = Preset::default();
+        let mut q = Preset::version_1();
         q.physics.max_time = 1.0;
         let run = |across: bool| {
             let mut r = q.clone();
@@ -2168,7 +2168,7 @@ mod tests {
     /// reported as a sinking.
     #[test]
     fn a_non_finite_step_is_reported_as_diverged() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         p.physics.integrator = Integrator::Paper;
         let mut sim = Simulation::new(&p).unwrap();
@@ -2191,7 +2191,7 @@ mod tests {
     /// the last contact, the one the stone sank in, has a peak too.
     #[test]
     fn a_skips_peak_lift_exceeds_the_weight() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         let mut sim = Simulation::new(&p).unwrap();
         let s = sim.run(&mut |_| {}, &|| false);
@@ -2217,7 +2217,7 @@ mod tests {
     /// before it keep the peak g they had, read against the weight they were made with.
     #[test]
     fn a_live_gravity_change_keeps_earlier_peaks() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         let mut sim = Simulation::new(&p).unwrap();
         while sim.contacts().first().is_none_or(|c| c.open) {
@@ -2235,7 +2235,7 @@ mod tests {
     /// A run that ends otherwise carries no reason.
     #[test]
     fn other_outcomes_carry_no_reason() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = false;
         let s = simulate(&p).unwrap();
         assert_eq!(s.outcome, Some(Outcome::Sank));
@@ -2300,7 +2300,7 @@ mod tests {
     /// is the summary's final time.
     #[test]
     fn the_end_time_is_the_outcomes_instant() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.water.enabled = true;
         let mut sim = Simulation::new(&p).unwrap();
         while !sim.is_finished() {

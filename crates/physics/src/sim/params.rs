@@ -28,8 +28,13 @@ impl ParamError {
 }
 
 /// One throw: everything a run needs.
+///
+/// A field a preset does not name takes the value of its schema's base (design.md §3): in a
+/// `version: 1` file the model before the fidelity work ([`Preset::version_1`]), in a
+/// `version: 2` file the shipped default ([`Preset::default`], `assets/presets/default.ron` as
+/// compiled in). A parse states its schema with [`with_schema`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default = "Preset::omitted", deny_unknown_fields)]
 pub struct Preset {
     pub version: u32,
     pub name: String,
@@ -39,15 +44,76 @@ pub struct Preset {
     pub water: WaterParams,
 }
 
+/// The shipped default throw as compiled in: the base of a `version: 2` preset's omitted fields and
+/// [`Preset::default`]. It names every field where the two schemas differ, and it is read as
+/// `version: 1` (the schema it is written in).
+pub const SHIPPED_DEFAULT_RON: &str = include_str!("../../../../assets/presets/default.ron");
+
+/// The newest preset schema: omitted fields mean the shipped default.
+pub const LATEST_SCHEMA: u32 = 2;
+
+thread_local! {
+    /// The schema whose base fills the omitted fields of the preset being parsed on this thread.
+    static OMITTED_FROM: std::cell::Cell<u32> = const { std::cell::Cell::new(1) };
+}
+
+/// Runs `parse` with omitted preset fields taken from schema `version`'s base (1: the model before
+/// the fidelity work; 2: the shipped default); the previous schema is restored afterwards, even if
+/// `parse` unwinds.
+pub fn with_schema<T>(version: u32, parse: impl FnOnce() -> T) -> T {
+    struct Restore(u32);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            OMITTED_FROM.with(|s| s.set(self.0));
+        }
+    }
+    let _restore = Restore(OMITTED_FROM.with(|s| s.replace(version)));
+    parse()
+}
+
 impl Default for Preset {
+    /// The shipped default throw (`assets/presets/default.ron` as compiled in): one definition,
+    /// the one the app opens with.
     fn default() -> Self {
+        Self::shipped_default().clone()
+    }
+}
+
+impl Preset {
+    /// The compiled-in default, parsed once. The file is checked by the tests
+    /// (`the_compiled_in_default_is_valid`), so the parse cannot fail at run time.
+    fn shipped_default() -> &'static Preset {
+        static SHIPPED: std::sync::OnceLock<Preset> = std::sync::OnceLock::new();
+        SHIPPED.get_or_init(|| {
+            match with_schema(1, || {
+                ron::Options::default().from_str::<Preset>(SHIPPED_DEFAULT_RON)
+            }) {
+                Ok(preset) => preset,
+                Err(e) => panic!("the compiled-in default preset does not parse: {e}"),
+            }
+        })
+    }
+
+    /// The base of the preset being parsed (see [`with_schema`]).
+    fn omitted() -> Self {
+        if OMITTED_FROM.with(|s| s.get()) >= 2 {
+            Self::default()
+        } else {
+            Self::version_1()
+        }
+    }
+
+    /// What a `version: 1` preset's omitted fields mean: the model before the fidelity work (the
+    /// paper's faceted, locked stone without buoyancy, air or memory) and its 10 m/s throw. The
+    /// tests and studies written against it keep using it.
+    pub fn version_1() -> Self {
         Self {
             version: 1,
             name: "Default throw".to_owned(),
-            stone: StoneParams::default(),
-            launch: Launch::default(),
-            physics: Physics::default(),
-            water: WaterParams::default(),
+            stone: StoneParams::version_1(),
+            launch: Launch::version_1(),
+            physics: Physics::version_1(),
+            water: WaterParams::version_1(),
         }
     }
 }
@@ -101,7 +167,7 @@ impl Shape {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default = "StoneParams::omitted", deny_unknown_fields)]
 pub struct StoneParams {
     pub shape: Shape,
     /// kg
@@ -143,8 +209,14 @@ impl Quadrature {
     }
 }
 
-impl Default for StoneParams {
-    fn default() -> Self {
+impl StoneParams {
+    /// The base of the preset being parsed (see [`with_schema`]).
+    fn omitted() -> Self {
+        Preset::omitted().stone
+    }
+
+    /// A `version: 1` preset's omitted stone (see [`Preset::version_1`]).
+    pub fn version_1() -> Self {
         // A flat river stone: 5 cm radius, 1 cm thick, 100 g.
         Self {
             shape: Shape::Lens {
@@ -180,7 +252,7 @@ impl Default for Attitude {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default = "Launch::omitted", deny_unknown_fields)]
 pub struct Launch {
     /// m, centre of mass.
     pub position: [f64; 3],
@@ -193,8 +265,14 @@ pub struct Launch {
     pub angular_velocity: [f64; 3],
 }
 
-impl Default for Launch {
-    fn default() -> Self {
+impl Launch {
+    /// The base of the preset being parsed (see [`with_schema`]).
+    fn omitted() -> Self {
+        Preset::omitted().launch
+    }
+
+    /// A `version: 1` preset's omitted launch (see [`Preset::version_1`]).
+    pub fn version_1() -> Self {
         Self {
             position: [0.0, 0.0, 0.3],
             velocity: [10.0, 0.0, -1.0],
@@ -327,7 +405,7 @@ pub enum Hydrostatic {
 pub const SAVITSKY_CENTRE: f64 = 0.75;
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default = "Physics::omitted", deny_unknown_fields)]
 pub struct Physics {
     /// m/s²
     pub gravity: f64,
@@ -379,9 +457,8 @@ pub struct Physics {
     pub steps_across_ticks: bool,
     /// The wetted-extent memory (`memory.rs`): the waterline the faces are clipped against lags
     /// the geometric one with τ = lag · L/|U|. `None`: the quasi-steady contact of the paper (and
-    /// of every preset that does not name it). Saved only when set, so a preset that never set it
-    /// reads as it did.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// of every `version: 1` preset that does not name it). Always saved, `None` included, since a
+    /// `version: 2` preset that omits it has the shipped default's memory.
     pub wetted_memory: Option<MemoryParams>,
 }
 
@@ -414,8 +491,14 @@ impl Default for MemoryParams {
     }
 }
 
-impl Default for Physics {
-    fn default() -> Self {
+impl Physics {
+    /// The base of the preset being parsed (see [`with_schema`]).
+    fn omitted() -> Self {
+        Preset::omitted().physics
+    }
+
+    /// A `version: 1` preset's omitted physics (see [`Preset::version_1`]).
+    pub fn version_1() -> Self {
         Self {
             gravity: 9.81,
             water_density: 1000.0,
@@ -492,18 +575,19 @@ impl Default for Swell {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default = "WaterParams::omitted", deny_unknown_fields)]
 pub struct WaterParams {
     pub enabled: bool,
     /// Contact and clipping against the water grid's height instead of z = 0.
     pub wavy_contact: bool,
     /// m (x, y)
     pub size: [f64; 2],
-    /// The grid's −x, −y corner; omitted: launch point 2 m inside the −x edge, centred in y.
+    /// The grid's −x, −y corner; `None`: launch point 2 m inside the −x edge, centred in y. Always
+    /// saved (the shipped default names one, so `None` must be written to mean `None` in a
+    /// `version: 2` file).
     #[serde(
         deserialize_with = "de_plain_option",
-        serialize_with = "ser_plain_option",
-        skip_serializing_if = "Option::is_none"
+        serialize_with = "ser_plain_option"
     )]
     pub origin: Option<[f64; 2]>,
     /// m
@@ -571,8 +655,14 @@ impl Default for SpectralParams {
     }
 }
 
-impl Default for WaterParams {
-    fn default() -> Self {
+impl WaterParams {
+    /// The base of the preset being parsed (see [`with_schema`]).
+    fn omitted() -> Self {
+        Preset::omitted().water
+    }
+
+    /// A `version: 1` preset's omitted water (see [`Preset::version_1`]).
+    pub fn version_1() -> Self {
         Self {
             enabled: true,
             wavy_contact: false,
@@ -659,6 +749,14 @@ fn check_range(field: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<
     Ok(())
 }
 
+/// What the `version` field may hold, for a message about `found`.
+pub fn schema_expected(found: u32) -> String {
+    format!(
+        "expected 1 (omitted fields: the model before the fidelity work) or 2 (omitted fields: \
+         the shipped default), found {found}"
+    )
+}
+
 fn check_positive(field: &str, value: f64, hi: f64, unit: &str) -> Result<(), ParamError> {
     if !value.is_finite() || value <= 0.0 || value > hi {
         return Err(ParamError::new(
@@ -672,14 +770,8 @@ fn check_positive(field: &str, value: f64, hi: f64, unit: &str) -> Result<(), Pa
 impl Preset {
     /// Checks every field's range; the first problem found is returned.
     pub fn validate(&self) -> Result<(), ParamError> {
-        if self.version != 1 {
-            return Err(ParamError::new(
-                "version",
-                format!(
-                    "expected 1 (the only schema version), found {}",
-                    self.version
-                ),
-            ));
+        if !(1..=LATEST_SCHEMA).contains(&self.version) {
+            return Err(ParamError::new("version", schema_expected(self.version)));
         }
         self.stone.validate()?;
         self.launch.validate()?;
@@ -988,7 +1080,7 @@ mod tests {
 
     #[test]
     fn default_preset_is_valid() {
-        Preset::default().validate().unwrap();
+        Preset::version_1().validate().unwrap();
     }
 
     #[test]
@@ -1003,7 +1095,7 @@ mod tests {
 
     #[test]
     fn negative_mass_is_refused_with_field() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.stone.mass = -1.0;
         let e = p.validate().unwrap_err();
         assert_eq!(e.field, "stone.mass");
@@ -1011,7 +1103,7 @@ mod tests {
 
     #[test]
     fn nan_is_refused() {
-        let mut p = Preset::default();
+        let mut p = Preset::version_1();
         p.launch.velocity[0] = f64::NAN;
         assert_eq!(p.validate().unwrap_err().field, "launch.velocity.x");
     }

@@ -131,7 +131,7 @@ pub const TYPICAL_RADIUS: f64 = 0.05;
 pub fn typical(rev_s: Option<f64>, centre: PressureCentre) -> Preset {
     let mut p = Preset {
         name: "typical spun stone".into(),
-        ..Preset::default()
+        ..Preset::version_1()
     };
     p.stone = StoneParams {
         shape: Shape::Disk {

@@ -784,7 +784,7 @@ mod tests {
         let mut p = Physics {
             force_law: law,
             buoyancy: true,
-            ..Physics::default()
+            ..Physics::version_1()
         };
         p.axial_spin = crate::sim::params::AxialSpin::Smooth;
         p.hydrostatic = crate::sim::params::Hydrostatic::WettedFaces;

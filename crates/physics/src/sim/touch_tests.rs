@@ -12,7 +12,7 @@ use super::{Simulation, StepContext};
 /// A shipped-like throw (64-segment lens, free rotation, air, wavy contact on a 2 cm lake) run
 /// past its second contact, so rings and wakes stand on the water around the stone.
 fn wake() -> Simulation {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.stone.shape = Shape::Lens {
         radius: 0.05,
         thickness: 0.012,

@@ -189,13 +189,13 @@ pub const LONG_TICK: f64 = 0.05;
 /// Tick of the reference, mesh and water runs (s): Adaptive's step bound there.
 pub const REF_TICK: f64 = 5e-4;
 
-/// The shipped tick (`Preset::default()`), Adaptive's step bound in contact.
+/// The shipped tick (`Preset::version_1()`), Adaptive's step bound in contact.
 pub fn shipped_tick() -> f64 {
-    Preset::default().physics.dt
+    Preset::version_1().physics.dt
 }
 /// The shipped default throw (`assets/presets/default.ron`, as compiled in): its lens and its
 /// lake are what the app shows, and the study's text compares them with the built-in defaults it
-/// runs (`Preset::default()`). `None` if the compiled-in file does not load (a test catches that).
+/// runs (`Preset::version_1()`). `None` if the compiled-in file does not load (a test catches that).
 pub fn shipped_default() -> Option<Preset> {
     let (_, text) = super::fidelity::SHIPPED
         .iter()

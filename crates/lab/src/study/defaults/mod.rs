@@ -2,7 +2,7 @@
 //! chart"): for the Adaptive tolerance, the tick dt, the mesh's rim segments and the water cell,
 //! the cheapest value whose error stays under 1 % — at that value and every finer one — on the
 //! accuracy study's three throws, then a check of the chosen settings together, and a comparison
-//! with `Preset::default()` and the shipped presets (`assets/presets/*.ron`).
+//! with `Preset::version_1()` and the shipped presets (`assets/presets/*.ron`).
 
 use rayon::prelude::*;
 
@@ -138,10 +138,10 @@ fn shipped_of(name: &str, p: &Preset) -> Shipped {
     }
 }
 
-/// `Preset::default()` and every shipped preset (`assets/presets`, as compiled in), in file-name
+/// `Preset::version_1()` and every shipped preset (`assets/presets`, as compiled in), in file-name
 /// order.
 pub fn shipped_presets() -> Vec<Shipped> {
-    let mut out = vec![shipped_of("Preset::default()", &Preset::default())];
+    let mut out = vec![shipped_of("Preset::version_1()", &Preset::version_1())];
     let mut stems: Vec<&str> = crate::preset::SHIPPED.iter().map(|(s, _)| *s).collect();
     stems.sort_unstable();
     for stem in stems {

@@ -93,7 +93,7 @@ fn knobs_csv(res: &Results) -> Csv {
 
 /// Worst error and cost of Adaptive against the tolerance, one curve per tick.
 fn adaptive_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
-    let d = Preset::default();
+    let d = Preset::version_1();
     let rec = &res.rec;
     let grid_pts = &res.grid;
     let tols = tolerances(ctx.quick);
@@ -160,7 +160,7 @@ fn adaptive_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
 
 /// Worst error against the rim segments and the water cell.
 fn resolution_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
-    let d = Preset::default();
+    let d = Preset::version_1();
     let rec = &res.rec;
     let mesh = &res.mesh;
     let finest = res.finest;
@@ -228,7 +228,7 @@ fn resolution_charts(ctx: &Ctx, res: &Results) -> (Chart, Chart) {
 
 /// The header, the recommendations table and the chart.
 fn summary_md(ctx: &Ctx, res: &Results) -> String {
-    let d = Preset::default();
+    let d = Preset::version_1();
     let rec = &res.rec;
     let grid_pts = &res.grid;
     let mesh = &res.mesh;
@@ -290,7 +290,7 @@ fn summary_md(ctx: &Ctx, res: &Results) -> String {
         &[
             "setting",
             "cheapest under 1 %",
-            "built-in default (`Preset::default()`)",
+            "built-in default (`Preset::version_1()`)",
             "note",
         ],
         &rows,
@@ -435,7 +435,7 @@ fn water_md(res: &Results) -> String {
 
 /// The shipped presets against the recommendation, and the verdict.
 fn shipped_md(ctx: &Ctx, res: &Results) -> String {
-    let d = Preset::default();
+    let d = Preset::version_1();
     let rec = &res.rec;
     let grid_pts = &res.grid;
     let mesh = &res.mesh;

@@ -43,7 +43,7 @@ pub struct BounceCase {
 pub fn bocquet_case() -> Result<BounceCase, StudyError> {
     let mut p = Preset {
         name: "Bocquet plate".into(),
-        ..Preset::default()
+        ..Preset::version_1()
     };
     p.stone = StoneParams {
         shape: Shape::Plate {
@@ -423,10 +423,10 @@ pub struct PaperRun {
     pub path: Vec<(f64, f64)>,
 }
 
-/// The shipped default throw (`Preset::default()`: launched from 0.3 m at (10, 0, −1) m/s, tilt 20°,
+/// The shipped default throw (`Preset::version_1()`: launched from 0.3 m at (10, 0, −1) m/s, tilt 20°,
 /// Rosellini law), water off.
 pub fn default_throw() -> Preset {
-    let mut p = Preset::default();
+    let mut p = Preset::version_1();
     p.water.enabled = false;
     p.physics.max_time = 20.0;
     p
@@ -677,7 +677,7 @@ pub fn compute_paper(ctx: &Ctx) -> Result<Vec<PaperScene>, StudyError> {
         ]
     };
     let scenes = [
-        ("default", "the default throw (Preset::default(): lens, 0.3 m up, (10, 0, −1) m/s, tilt 20°, Rosellini law)", default_throw()),
+        ("default", "the default throw (Preset::version_1(): lens, 0.3 m up, (10, 0, −1) m/s, tilt 20°, Rosellini law)", default_throw()),
         ("paper", "the paper preset (assets/presets/paper.ron: lens, tilt 25°, Paper law with C_l 1.4 on every wetted face)", paper_preset()?),
     ];
     let mut out = Vec::new();

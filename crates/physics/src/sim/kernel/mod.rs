@@ -2008,7 +2008,10 @@ mod tests {
                         surface: &super::super::hydro::FlatSurface,
                         record: false,
                     };
-                    let stone = crate::sim::stone::Stone::new(&Default::default()).unwrap();
+                    let stone = crate::sim::stone::Stone::new(
+                        &crate::sim::params::StoneParams::version_1(),
+                    )
+                    .unwrap();
                     let c = Ctx::new(&stone, &hp, &pose, None, &call);
                     let speed = v.length();
                     let expect = face_force(&hp, normal, area, v, vn, speed, depth);

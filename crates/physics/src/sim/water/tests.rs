@@ -550,10 +550,10 @@ fn box_footprint_does_not_change_when_the_cell_is_halved() {
 #[test]
 fn a_preset_can_cap_the_water_step() {
     use crate::sim::params::WaterParams;
-    let auto = WaterGrid::new(&WaterParams::default(), [0.0, 0.0], 9.81, 1000.0).unwrap();
+    let auto = WaterGrid::new(&WaterParams::version_1(), [0.0, 0.0], 9.81, 1000.0).unwrap();
     let capped_params = WaterParams {
         max_step: Some(0.25 * auto.step_dt()),
-        ..WaterParams::default()
+        ..WaterParams::version_1()
     };
     let mut capped = WaterGrid::new(&capped_params, [0.0, 0.0], 9.81, 1000.0).unwrap();
     assert_eq!(capped.step_dt(), 0.25 * auto.step_dt());
@@ -563,13 +563,13 @@ fn a_preset_can_cap_the_water_step() {
     assert!(capped.courant() <= capped.courant_limit());
     let loose = WaterParams {
         max_step: Some(0.1),
-        ..WaterParams::default()
+        ..WaterParams::version_1()
     };
     let w = WaterGrid::new(&loose, [0.0, 0.0], 9.81, 1000.0).unwrap();
     assert_eq!(w.step_dt(), auto.step_dt());
     let bad = WaterParams {
         max_step: Some(0.0),
-        ..WaterParams::default()
+        ..WaterParams::version_1()
     };
     assert_eq!(bad.validate().unwrap_err().field, "water.max_step");
 }
