@@ -1,28 +1,23 @@
 //! What takes the skips at high spin? The shipped default throw's spin sweep (the fidelity study's
-//! five launch heights ±1 mm, median and range of skips) with the shipped model, without friction
-//! (C_f = 0), with Savitsky's planing centre of pressure (0.75 of the wetted length), and both.
+//! five launch heights ±1 mm, median and range of skips) with the shipped model and without friction
+//! (C_f = 0). (Savitsky's planing centre, a third variant here before, is retired:
+//! docs/studies/retired.md.)
 //! A diagnosis, not a model: friction at C_f = 0 is not physical (issue 11, session 7's note).
 //!
-//! `cargo run --release --example spin_ablation` (about 8 minutes on two cores)
+//! `cargo run --release --example spin_ablation` (about 4 minutes on two cores)
 
 use std::f64::consts::TAU;
 use std::path::Path;
 
 use anyhow::Result;
 use rayon::prelude::*;
-use stoneskip::sim::params::PressureCentre;
 
 const REVS: [f64; 10] = [0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 40.0, 60.0, 80.0, 150.0];
 const HEIGHTS: [f64; 5] = [0.0, -1e-3, -5e-4, 5e-4, 1e-3];
 
 fn main() -> Result<()> {
     let p = stoneskip::preset::load(Path::new("assets/presets/default.ron"))?;
-    let variants: [(&str, Option<f64>, PressureCentre); 4] = [
-        ("shipped", None, p.physics.pressure_centre),
-        ("C_f = 0", Some(0.0), p.physics.pressure_centre),
-        ("planing centre", None, PressureCentre::Planing(0.75)),
-        ("both", Some(0.0), PressureCentre::Planing(0.75)),
-    ];
+    let variants: [(&str, Option<f64>); 2] = [("shipped", None), ("C_f = 0", Some(0.0))];
     let jobs: Vec<(usize, usize, f64)> = (0..variants.len())
         .flat_map(|v| (0..REVS.len()).flat_map(move |r| HEIGHTS.map(|dz| (v, r, dz))))
         .collect();
@@ -30,11 +25,10 @@ fn main() -> Result<()> {
         .par_iter()
         .map(|&(v, r, dz)| {
             let mut q = p.clone();
-            let (_, cf, centre) = variants[v];
+            let (_, cf) = variants[v];
             if cf.is_some() {
                 q.physics.friction_coefficient = cf;
             }
-            q.physics.pressure_centre = centre;
             q.launch.spin = REVS[r] * TAU;
             q.launch.position[2] += dz;
             Ok((v, r, stoneskip::sim::simulate(&q)?.skips))

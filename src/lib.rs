@@ -24,5 +24,7 @@ pub use stoneskip_physics::{preset, sim};
 /// physics).
 pub use stoneskip_reference as reference;
 
-/// The studies live in the `stoneskip-lab` crate; `stoneskip study` reaches them here.
+/// The studies live in the `stoneskip-lab` crate (the `lab` feature, on by default);
+/// `stoneskip study` reaches them here.
+#[cfg(feature = "lab")]
 pub use stoneskip_lab::study;

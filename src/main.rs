@@ -127,10 +127,23 @@ fn run() -> Result<()> {
             stoneskip::render::render_to_png(&p, &out, width, height, time, view)
                 .with_context(|| format!("rendering {}", out.display()))
         }
-        Some(Command::Study { name, out, quick }) => {
-            stoneskip::study::run_study(&name, &out, quick)
-        }
+        Some(Command::Study { name, out, quick }) => run_study(&name, &out, quick),
     }
+}
+
+/// `study NAME`: the lab's studies.
+#[cfg(feature = "lab")]
+fn run_study(name: &str, out: &std::path::Path, quick: bool) -> Result<()> {
+    stoneskip::study::run_study(name, out, quick)
+}
+
+/// A build without the lab has no studies to run.
+#[cfg(not(feature = "lab"))]
+fn run_study(name: &str, _out: &std::path::Path, _quick: bool) -> Result<()> {
+    anyhow::bail!(
+        "this stoneskip was built without the `lab` feature, so it has no studies (asked for \
+         `{name}`); rebuild with the default features, or `--features lab`"
+    )
 }
 
 /// The answer of a headless build to `gui`, `render` or no subcommand.

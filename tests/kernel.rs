@@ -136,7 +136,7 @@ const EXTRAS: [&str; 5] = [
     "smooth+wetted",
 ];
 
-fn params(law: ForceLaw, ventilated: bool, planing: bool, extras: &str) -> HydroParams {
+fn params(law: ForceLaw, ventilated: bool, extras: &str) -> HydroParams {
     let (lift, friction) = law.default_coefficients();
     let all = extras == "all";
     let wetted = extras == "smooth+wetted";
@@ -146,7 +146,6 @@ fn params(law: ForceLaw, ventilated: bool, planing: bool, extras: &str) -> Hydro
         friction,
         density: 1000.0,
         ventilated,
-        pressure_centre: planing.then_some(0.75),
         opposing: all || extras == "opposing+buoyancy",
         smooth_spin: all || wetted || extras == "smooth",
         rho_g: if all || wetted || extras == "opposing+buoyancy" {
@@ -296,14 +295,12 @@ fn clearance_agrees(what: &str, stone: &Stone, p: &Pose, surface: &dyn Surface) 
     r
 }
 
-/// Every combination of ventilation, pressure centre and the extra options.
-fn options() -> Vec<(bool, bool, &'static str)> {
+/// Every combination of ventilation and the extra options.
+fn options() -> Vec<(bool, &'static str)> {
     let mut out = Vec::new();
     for ventilated in [true, false] {
-        for planing in [false, true] {
-            for extras in EXTRAS {
-                out.push((ventilated, planing, extras));
-            }
+        for extras in EXTRAS {
+            out.push((ventilated, extras));
         }
     }
     out
@@ -317,8 +314,8 @@ fn oracle(surface_name: &str, surface: &dyn Surface, poses: usize, seed: u64) {
     let mut evaluations = 0;
     for (name, stone) in stones() {
         for law in ForceLaw::ALL {
-            for (ventilated, planing, extras) in options() {
-                let hp = params(law, ventilated, planing, extras);
+            for (ventilated, extras) in options() {
+                let hp = params(law, ventilated, extras);
                 {
                     for kind in [Kind::Grazing, Kind::Mid, Kind::Deep, Kind::Free] {
                         // One scratch per run of poses, as the simulation keeps one.
@@ -326,7 +323,7 @@ fn oracle(surface_name: &str, surface: &dyn Surface, poses: usize, seed: u64) {
                         for i in 0..poses {
                             let p = pose(&mut rng, &stone, kind);
                             let what = format!(
-                                "{surface_name} {name} {law:?} vent {ventilated} planing {planing} {extras} {kind:?} #{i}"
+                                "{surface_name} {name} {law:?} vent {ventilated} {extras} {kind:?} #{i}"
                             );
                             let record = i % 2 == 0;
                             let mut rs = Scratch::default();
@@ -424,7 +421,7 @@ fn clearance_and_sink_test_agree_at_the_extremes() {
 fn kernel_is_deterministic() {
     let mut rng = Rng(99);
     for (_, stone) in stones() {
-        let hp = params(ForceLaw::Rosellini, true, true, "all");
+        let hp = params(ForceLaw::Rosellini, true, "all");
         for kind in [Kind::Mid, Kind::Free] {
             let p = pose(&mut rng, &stone, kind);
             let mut a = Scratch::default();

@@ -7,7 +7,7 @@
 use proptest::prelude::*;
 use stoneskip::sim::params::{
     Attitude, AxialSpin, ForceLaw, Integrator, LagLength, Limiter, MemoryParams, Precision, Preset,
-    PressureCentre, Quadrature, Rotation, Shape, StoneParams,
+    Quadrature, Rotation, Shape, StoneParams,
 };
 use stoneskip::sim::{Simulation, Summary};
 
@@ -75,13 +75,7 @@ fn preset() -> impl Strategy<Value = Preset> {
         ),
         (0usize..3, 0usize..4, any::<bool>(), any::<bool>()),
         (1e-4..5e-3f64, 0.0..3.0f64, 0.0..0.05f64),
-        (
-            any::<bool>(),
-            any::<bool>(),
-            any::<bool>(),
-            any::<bool>(),
-            prop::option::of(0.0..=1.0f64),
-        ),
+        (any::<bool>(), any::<bool>(), any::<bool>(), any::<bool>()),
         (
             any::<bool>(),
             2u32..24,
@@ -96,7 +90,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                 (tilt, bank, heading, spin),
                 (law, integ, vent, free),
                 (dt, cl, cf),
-                (water, wavy, paper_clamp, f64_water, planing),
+                (water, wavy, paper_clamp, f64_water),
                 (smooth, meridian, around, memory),
             )| {
                 let mut p = Preset::version_1();
@@ -147,8 +141,6 @@ fn preset() -> impl Strategy<Value = Preset> {
                 } else {
                     Precision::F32
                 };
-                p.physics.pressure_centre =
-                    planing.map_or(PressureCentre::Faces, PressureCentre::Planing);
                 // The wetted-extent memory at any λ the Physics panel allows, either length.
                 p.physics.wetted_memory = memory.map(|(lag, wetted)| MemoryParams {
                     lag,

@@ -8,13 +8,11 @@ mod common;
 
 use common::{
     clanet_at_impact, clanet_free as clanet, fit_exponent, logspace, spin_counts, spin_limited,
-    spin_point, spin_threshold, typical, CENTRES,
+    spin_point, typical, CENTRES,
 };
 use glam::{DMat3, DQuat, DVec3};
 use stoneskip::sim::integrate::torque_free;
-use stoneskip::sim::params::{
-    Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams, SAVITSKY_CENTRE,
-};
+use stoneskip::sim::params::{Integrator, Preset, Rotation, Shape, StoneParams};
 use stoneskip::sim::scenario::first_contact;
 use stoneskip::sim::stone::Stone;
 use stoneskip::sim::Simulation;
@@ -230,7 +228,7 @@ fn more_spin_never_fewer_skips() {
     for (vx, vz, tilt) in [(6.0, -0.5, 20.0), (9.0, -0.8, 20.0), (12.0, -0.5, 15.0)] {
         let mut rows = Vec::new();
         for rev_s in (0..=15).map(|i| 10.0 * i as f64) {
-            let mut p = typical(Some(rev_s), PressureCentre::Faces);
+            let mut p = typical(Some(rev_s));
             p.launch.velocity = [vx, 0.0, vz];
             p.launch.attitude.tilt_deg = tilt;
             let s = stoneskip::sim::simulate(&p).unwrap();
@@ -266,7 +264,7 @@ fn more_spin_never_fewer_skips() {
 #[test]
 fn spin_limited_count_grows_linearly_not_quadratically() {
     let spins = logspace(40.0, 155.0, 13);
-    let counts = spin_counts(PressureCentre::Faces, &spins).unwrap();
+    let counts = spin_counts(&spins).unwrap();
     let (raw, alone) = spin_limited(&counts);
     let p_raw = fit_exponent(&raw).unwrap();
     let p = fit_exponent(&alone).unwrap();
@@ -304,30 +302,6 @@ fn vc12_inclination_nearly_unchanged_at_65_rev_s() {
             "{centre:?} without spin: {still:?}"
         );
     }
-}
-
-/// Savitsky's planing centre of pressure (0.75 of the wetted length) shortens the lever of the lift
-/// about the centre of mass: the same spin precesses the stone less per contact, and the spin needed
-/// to skip at α = 35° falls towards the literature's one revolution per contact.
-#[test]
-fn planing_centre_precesses_less() {
-    let faces = spin_point(20.0, 65.0, PressureCentre::Faces).unwrap();
-    let planing = spin_point(20.0, 65.0, PressureCentre::Planing(SAVITSKY_CENTRE)).unwrap();
-    assert!(planing.axis_turn < faces.axis_turn, "{faces:?} {planing:?}");
-    let tf = spin_threshold(35.0, PressureCentre::Faces, 100.0, 1.0)
-        .unwrap()
-        .unwrap();
-    let tp = spin_threshold(35.0, PressureCentre::Planing(SAVITSKY_CENTRE), 100.0, 1.0)
-        .unwrap()
-        .unwrap();
-    eprintln!(
-        "threshold: faces {:.1} rev/s ({:.2} rev/contact), planing {:.1} rev/s ({:.2} rev/contact)",
-        tf.0,
-        tf.0 * tf.1,
-        tp.0,
-        tp.0 * tp.1
-    );
-    assert!(tp.0 < tf.0);
 }
 
 /// A banked, spinning stone curves sideways (the lift leans with the stone); with the attitude

@@ -96,11 +96,11 @@ fn physics(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
     ph.integrator = pick(u, &Integrator::ALL)?;
     ph.tolerance = log_num(u, 1e-10, 1e-3)?;
     ph.rotation = pick(u, &[Rotation::Locked, Rotation::Free])?;
-    ph.pressure_centre = if u.arbitrary()? {
-        PressureCentre::Faces
-    } else {
-        PressureCentre::Planing(num(u, 0.0, 1.0)?)
-    };
+    // The retired planing centre's bytes are still read, so a stored input means what it did.
+    if !u.arbitrary::<bool>()? {
+        num(u, 0.0, 1.0)?;
+    }
+    ph.pressure_centre = PressureCentre::Faces;
     ph.dt = log_num(u, 5e-5, 0.02)?;
     ph.max_time = num(u, 0.01, 0.25)?;
     Ok(())
@@ -139,7 +139,8 @@ fn options(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
     ph.pressure_sign = pick(u, &[PressureSign::AsPrinted, PressureSign::OpposesMotion])?;
     ph.axial_spin = pick(
         u,
-        &[AxialSpin::Faceted, AxialSpin::Smooth, AxialSpin::Resal],
+        // The retired `Smooth`'s slot reads as `Resal`, so a stored input keeps its bytes' meaning.
+        &[AxialSpin::Faceted, AxialSpin::Resal, AxialSpin::Resal],
     )?;
     ph.buoyancy = u.arbitrary()?;
     ph.hydrostatic = pick(u, &[Hydrostatic::LoadedFaces, Hydrostatic::WettedFaces])?;

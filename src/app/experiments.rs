@@ -14,8 +14,8 @@ use std::time::Instant;
 use anyhow::{Context as _, Result};
 use rayon::prelude::*;
 
-use super::model::outcome_words;
 use crate::sim::params::Preset;
+use crate::sim::Outcome;
 
 const TAU: f64 = std::f64::consts::TAU;
 
@@ -68,13 +68,15 @@ impl Knob {
 
     /// The panels' range for this value (inside `Preset::validate`'s).
     pub fn range(self) -> (f64, f64) {
-        match self {
-            Knob::Speed => (0.5, 40.0),
-            Knob::Tilt => (-45.0, 75.0),
-            Knob::Spin => (-75.0, 75.0),
-            Knob::Height => (0.0, 5.0),
-            Knob::Mass => (0.005, 3.0),
-        }
+        use crate::ui::ranges;
+        let r = match self {
+            Knob::Speed => ranges::SPEED,
+            Knob::Tilt => ranges::TILT,
+            Knob::Spin => ranges::SPIN,
+            Knob::Height => ranges::HEIGHT,
+            Knob::Mass => ranges::MASS,
+        };
+        (*r.start(), *r.end())
     }
 
     /// A range worth sweeping first: around the magic angle, the minimal speed, …
@@ -294,14 +296,10 @@ impl Experiment {
                 p.force_evals
             ));
         }
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("cannot create {}", dir.display()))?;
-        }
-        let mut f = std::fs::File::create(path)
-            .with_context(|| format!("cannot create {}", path.display()))?;
+        let mut f = super::files::create_file(path)?;
         f.write_all(text.as_bytes())
-            .with_context(|| format!("cannot write {}", path.display()))
+            .and_then(|()| f.flush())
+            .with_context(|| format!("writing {}", path.display()))
     }
 }
 
@@ -352,9 +350,7 @@ fn throw(value: f64, p: &Preset, stop: &AtomicBool) -> Point {
         value,
         skips: s.skips,
         distance: s.distance,
-        outcome: s
-            .outcome
-            .map_or_else(|| "stopped".to_owned(), outcome_words),
+        outcome: s.outcome.map_or("stopped", Outcome::words).to_owned(),
         force_evals: s.force_evals,
     }
 }

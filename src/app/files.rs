@@ -86,14 +86,19 @@ pub fn csv_preamble(preset_name: &str) -> String {
     )
 }
 
-/// Writes the run's samples as CSV to `path` (creating the folder).
-pub fn write_csv(path: &Path, sim: &Simulation, samples: &[StepSample]) -> Result<()> {
-    if let Some(dir) = path.parent() {
+/// Creates (or truncates) the file at `path`, creating its folder first; the error names the path.
+pub fn create_file(path: &Path) -> Result<std::io::BufWriter<std::fs::File>> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let file =
         std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
-    let mut out = std::io::BufWriter::new(file);
+    Ok(std::io::BufWriter::new(file))
+}
+
+/// Writes the run's samples as CSV to `path` (creating the folder).
+pub fn write_csv(path: &Path, sim: &Simulation, samples: &[StepSample]) -> Result<()> {
+    let mut out = create_file(path)?;
     out.write_all(csv_preamble(&sim.preset().name).as_bytes())?;
     let mut w = CsvWriter::new(out, sim)?;
     let mut it = samples.iter();

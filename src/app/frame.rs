@@ -10,12 +10,13 @@ use anyhow::{anyhow, Context as _, Result};
 use winit::event_loop::ActiveEventLoop;
 
 use super::files;
-use super::model::{outcome_words, Model, Shot};
+use super::model::{Model, Shot};
 use super::platform::{App, Gfx, Recoveries};
 use super::redraw::{self, PanelTiles};
 use super::soak::{MAX_THROW_FRAMES, SOAK_SPEED};
 use crate::render::offscreen::read_rgba8;
 use crate::render::Viewport;
+use crate::sim::Outcome;
 use crate::ui::{Message, Phase};
 
 impl App {
@@ -102,7 +103,8 @@ impl App {
             let outcome = model
                 .sim
                 .outcome()
-                .map_or_else(|| "no outcome".to_owned(), outcome_words);
+                .map_or("no outcome", Outcome::words)
+                .to_owned();
             soak.finish_throw(&preset, model.sim.time(), outcome, running);
             // Written after every throw: a soak stopped early keeps its rows.
             if let Err(e) = soak.write() {

@@ -70,11 +70,6 @@ pub fn rest_due(finished: bool, since_outcome: f64, max_abs_eta: Option<f64>) ->
     calm || since_outcome >= REST_AFTER
 }
 
-/// An outcome in words a person reads.
-pub fn outcome_words(o: Outcome) -> String {
-    o.words().to_owned()
-}
-
 /// Largest stable tick and largest within 1 % of each fixed-step integrator on the default stone
 /// (docs/studies/stability, table A); thinner or lighter stones need smaller steps.
 pub fn stable_step(integrator: Integrator) -> Option<(f64, f64)> {
@@ -711,7 +706,8 @@ impl Model {
             outcome: self
                 .sim
                 .outcome()
-                .map_or_else(|| "stopped".to_owned(), outcome_words),
+                .map_or("stopped", Outcome::words)
+                .to_owned(),
         });
         while self.ghosts.len() > MAX_GHOSTS {
             self.ghosts.pop_front();
@@ -1289,7 +1285,7 @@ impl Model {
             plots: self.plots.decimated(400, end),
             plot_end: end,
             timing: self.timing,
-            outcome: self.sim.outcome().map(outcome_words),
+            outcome: self.sim.outcome().map(|o| o.words().to_owned()),
             dropping_now: !self.resting
                 && self
                     .last_drop
@@ -1340,7 +1336,7 @@ impl Model {
                 .sim
                 .outcome()
                 .zip(self.sim.end_time())
-                .map(|(o, t)| format!("{} at {t:.2} s", outcome_words(o))),
+                .map(|(o, t)| format!("{} at {t:.2} s", o.words())),
             glide: self.sim.contacts().last().and_then(|c| {
                 let radius = self.sim.stone().shape.half_extent();
                 (contact_kind(c, radius) == ContactKind::Glide).then(|| slide_distance(c))
@@ -1430,16 +1426,6 @@ mod tests {
         m.advance(0.1);
         let due = (0.1 / m.sim.preset().physics.dt).round() as u64;
         assert_eq!(m.ticks, 2 + due);
-    }
-
-    #[test]
-    fn outcomes_read_as_words() {
-        assert_eq!(outcome_words(Outcome::Sank), "sank");
-        assert_eq!(outcome_words(Outcome::LeftDomain), "left the lake");
-        assert_eq!(
-            outcome_words(Outcome::Timeout),
-            "still going at the time limit"
-        );
     }
 
     #[test]

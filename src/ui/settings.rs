@@ -6,13 +6,29 @@ use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
     AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, LagLength, Launch, Limiter,
-    MemoryParams, NearField, Physics, Precision, PressureCentre, PressureSign, Quadrature,
-    Rotation, Shape, StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS, SAVITSKY_CENTRE,
+    MemoryParams, NearField, Physics, Precision, PressureSign, Quadrature, Rotation, Shape,
+    StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS,
 };
 
 use super::ViewSettings;
 
 const TAU: f64 = std::f64::consts::TAU;
+
+/// The launch and stone sliders' ranges, in the panels' units; the Experiments panel sweeps
+/// within the same ones (`app::experiments::Knob::range`).
+pub mod ranges {
+    use std::ops::RangeInclusive;
+    /// m/s
+    pub const SPEED: RangeInclusive<f64> = 0.5..=40.0;
+    /// degrees
+    pub const TILT: RangeInclusive<f64> = -45.0..=75.0;
+    /// rev/s
+    pub const SPIN: RangeInclusive<f64> = -75.0..=75.0;
+    /// m, the launch height
+    pub const HEIGHT: RangeInclusive<f64> = 0.0..=5.0;
+    /// kg
+    pub const MASS: RangeInclusive<f64> = 0.005..=3.0;
+}
 
 /// What a typed number means: a finite number, or nothing (then the field keeps its old value).
 /// Rust's parser accepts "nan" and "inf", which a clamped slider would turn into its maximum.
@@ -212,7 +228,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
     };
     elevation = elevation.clamp(-60.0, 45.0);
     heading = heading.clamp(-90.0, 90.0);
-    let mut spin_rev = (launch.spin / TAU).clamp(-75.0, 75.0);
+    let mut spin_rev = (launch.spin / TAU).clamp(*ranges::SPIN.start(), *ranges::SPIN.end());
     let mut changed = false;
     let mut velocity_changed = false;
     let mut spin_changed = false;
@@ -224,7 +240,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
             "Speed",
             "Speed",
             "Launch speed of the centre of mass",
-            |ui| ui.add(slider(&mut speed, 0.5..=40.0).suffix(" m/s")),
+            |ui| ui.add(slider(&mut speed, ranges::SPEED).suffix(" m/s")),
         );
         velocity_changed |= row(
             ui,
@@ -249,7 +265,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
             "Tilt",
             "Tilt",
             "Attitude: raises the stone's leading (+x) edge — the attack angle; ~20° is the magic angle",
-            |ui| ui.add(slider(&mut att.tilt_deg, -45.0..=75.0).suffix("°")),
+            |ui| ui.add(slider(&mut att.tilt_deg, ranges::TILT).suffix("°")),
         );
         c |= row(
             ui,
@@ -273,7 +289,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
             "Spin",
             "Spin",
             "Spin about the stone's axis (stored in rad/s); it steadies a free stone",
-            |ui| ui.add(slider(&mut spin_rev, -75.0..=75.0).suffix(" rev/s")),
+            |ui| ui.add(slider(&mut spin_rev, ranges::SPIN).suffix(" rev/s")),
         );
         label_ui(
             ui,
@@ -304,7 +320,7 @@ pub fn launch_ui(ui: &mut Ui, launch: &mut Launch, marks: &Marks) -> bool {
                 egui::DragValue::new(&mut p[2])
                     .update_while_editing(false)
                     .custom_parser(parse_finite)
-                    .range(0.0..=5.0)
+                    .range(ranges::HEIGHT)
                     .speed(0.01)
                     .prefix("z "),
             );
@@ -479,7 +495,7 @@ pub fn stone_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
             "Mass (the inertia follows from the mesh)",
             |ui| {
                 ui.add(
-                    slider(&mut stone.mass, 0.005..=3.0)
+                    slider(&mut stone.mass, ranges::MASS)
                         .logarithmic(true)
                         .suffix(" kg"),
                 )
@@ -787,54 +803,22 @@ fn paper_group_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     changed
 }
 
-/// The rows that matter only for a free rigid body: the pressure centre and the axial spin.
+/// The row that matters only for a free rigid body: the axial spin.
 fn free_body_rows_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut c = false;
-    label_ui(
-        ui,
-        marks,
-        &["pressure centre"],
-        "Pressure centre",
-        "Where the lift acts along the flow (torque only). Faces: each face's centroid (the paper). \
-         Planing: a fraction of the wetted length ahead of its trailing edge (Savitsky: 0.75).",
-    );
-    let before = physics.pressure_centre;
-    let mut planing = matches!(physics.pressure_centre, PressureCentre::Planing(_));
-    ui.horizontal(|ui| {
-        ui.radio_value(&mut planing, false, "Faces");
-        ui.radio_value(&mut planing, true, "Planing");
-    });
-    ui.end_row();
-    physics.pressure_centre = match (planing, physics.pressure_centre) {
-        (false, _) => PressureCentre::Faces,
-        (true, PressureCentre::Planing(f)) => PressureCentre::Planing(f),
-        (true, PressureCentre::Faces) => PressureCentre::Planing(SAVITSKY_CENTRE),
-    };
-    if let PressureCentre::Planing(f) = &mut physics.pressure_centre {
-        c |= row(
-            ui,
-            marks,
-            "pressure centre.Planing",
-            "Centre at",
-            "Fraction of the wetted length ahead of its trailing edge",
-            |ui| ui.add(slider(f, 0.0..=1.0)),
-        );
-    }
-    c |= before != physics.pressure_centre;
     c |= choice_row_ui(
         ui,
         marks,
         &["axial spin"],
         "Axial spin",
-        "Smooth: the pebble is a smooth body of revolution, so its spin about its own axis moves \
-                 no water normal to its surface (only friction feels it). Résal: smooth, and the mesh \
-                 meets the water without turning with the spin (its facets held to the flow, so they \
-                 do not ripple the force as they sweep past the waterline). Faceted: the mesh's flat \
-                 facets paddle the water as they spin.",
+        "Résal: the pebble is a smooth body of revolution, so its spin about its own axis moves \
+                 no water normal to its surface (only friction feels it), and the mesh meets the water \
+                 without turning with the spin (its facets held to the flow, so they do not ripple the \
+                 force as they sweep past the waterline). Faceted: the mesh's flat facets paddle the \
+                 water as they spin.",
         &mut physics.axial_spin,
         &[
             (AxialSpin::Resal, "Résal"),
-            (AxialSpin::Smooth, "Smooth"),
             (AxialSpin::Faceted, "Faceted"),
         ],
     );
@@ -1571,7 +1555,6 @@ mod tests {
         p.physics.rotation = Rotation::Free;
         p.physics.integrator = Integrator::Adaptive;
         p.physics.ventilated = false;
-        p.physics.pressure_centre = PressureCentre::Planing(0.75);
         p.water.swell = Some(Swell::default());
         let mut l = p.launch;
         l.velocity = [9.0, 1.0, 2.0];
@@ -1607,10 +1590,9 @@ mod tests {
         ph.tolerance *= 10.0;
         ph.steps_across_ticks = true;
         ph.air = Some(AirParams::default());
-        ph.pressure_centre = PressureCentre::Planing(0.5);
         ph.axial_spin = match ph.axial_spin {
-            AxialSpin::Smooth | AxialSpin::Resal => AxialSpin::Faceted,
-            AxialSpin::Faceted => AxialSpin::Smooth,
+            AxialSpin::Resal => AxialSpin::Faceted,
+            AxialSpin::Faceted => AxialSpin::Resal,
         };
         ph.dt *= 0.5;
         ph.max_time += 1.0;
@@ -1644,7 +1626,7 @@ mod tests {
             section_differences(&p.water, &w),
         ];
         let counts: Vec<usize> = d.iter().map(Vec::len).collect();
-        assert_eq!(counts, [13, 5, 16, 14], "{d:?}");
+        assert_eq!(counts, [13, 5, 15, 14], "{d:?}");
         let m: Vec<Marks> = d.iter().map(|d| marks_of(d)).collect();
         draw(|ui| {
             launch_ui(ui, &mut l, &m[0]);

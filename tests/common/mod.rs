@@ -119,11 +119,9 @@ pub fn clanet_at_impact(tilt_deg: f64, spin_rev_s: f64) -> Preset {
     .unwrap()
 }
 
-/// The centre-of-pressure models of the spin tests.
-pub const CENTRES: [PressureCentre; 2] = [
-    PressureCentre::Faces,
-    PressureCentre::Planing(stoneskip::sim::params::SAVITSKY_CENTRE),
-];
+/// The centre-of-pressure models of the spin tests (the planing centre is retired:
+/// docs/studies/retired.md).
+pub const CENTRES: [PressureCentre; 1] = [PressureCentre::Faces];
 
 /// Clanet's spun disc at impact with a centre-of-pressure model, default coefficients, Adaptive,
 /// capped at 5 s.
@@ -220,12 +218,12 @@ pub struct CountPoint {
 }
 
 /// Skips of the typical stone at each spin (and locked, last).
-pub fn spin_counts(centre: PressureCentre, spins: &[f64]) -> Result<Vec<CountPoint>, SimError> {
+pub fn spin_counts(spins: &[f64]) -> Result<Vec<CountPoint>, SimError> {
     let mut runs: Vec<Option<f64>> = spins.iter().map(|&s| Some(s)).collect();
     runs.push(None);
     runs.par_iter()
         .map(|&rev_s| {
-            let s = stoneskip::sim::simulate(&typical(rev_s, centre))?;
+            let s = stoneskip::sim::simulate(&typical(rev_s))?;
             Ok(CountPoint {
                 rev_s,
                 skips: s.skips,

@@ -480,24 +480,62 @@ mod tests {
         assert!(e.contains("expected a positive number"), "{e}");
     }
 
-    /// The new physics and water choices parse, round-trip, and a centre outside the wetted length is
-    /// named with its line and field.
+    /// The water's precision parses and round-trips; `pressure_centre: Faces` (which every saved
+    /// preset names) still parses.
     #[test]
-    fn pressure_centre_and_precision_parse_and_validate() {
-        let text = "(\n  physics: (rotation: Free, pressure_centre: Planing(0.75)),\n  water: (precision: F64),\n)";
+    fn pressure_centre_and_precision_parse() {
+        let text = "(\n  physics: (rotation: Free, pressure_centre: Faces),\n  water: (precision: F64),\n)";
         let p = parse(text, Path::new("ok.ron")).unwrap();
         assert_eq!(
             p.physics.pressure_centre,
-            crate::sim::params::PressureCentre::Planing(0.75)
+            crate::sim::params::PressureCentre::Faces
         );
         assert_eq!(p.water.precision, crate::sim::params::Precision::F64);
         let back = parse(&to_ron_string(&p).unwrap(), Path::new("rt.ron")).unwrap();
         assert_eq!(back, p);
-        let bad = "(\n  physics: (\n    pressure_centre: Planing(1.5),\n  ),\n)";
-        let e = parse(bad, Path::new("bad.ron")).unwrap_err().to_string();
-        assert!(e.starts_with("bad.ron:"), "{e}");
-        assert!(e.contains("physics.pressure_centre"), "{e}");
-        assert!(e.contains("[0, 1]"), "{e}");
+    }
+
+    /// A retired value gets one message: its file and line, the field, that it is retired, what
+    /// to write instead and where its results are.
+    #[test]
+    fn a_retired_value_says_so_and_where_its_results_are() {
+        for (text, field, value, instead) in [
+            (
+                "(\n  name: \"old\",\n  physics: (\n    pressure_centre: Planing(0.75),\n  ),\n)",
+                "physics.pressure_centre",
+                "Planing",
+                "write Faces",
+            ),
+            (
+                "(\n  name: \"old\",\n  physics: (\n    axial_spin: Smooth,\n  ),\n)",
+                "physics.axial_spin",
+                "Smooth",
+                "write Resal",
+            ),
+        ] {
+            let e = parse(text, Path::new("old.ron")).unwrap_err().to_string();
+            assert!(e.starts_with("old.ron:4:"), "{e}");
+            assert!(e.contains(&format!("`{field}: {value}` is retired")), "{e}");
+            assert!(e.contains(instead), "{e}");
+            assert!(e.contains("docs/studies/retired.md"), "{e}");
+        }
+    }
+
+    /// The page a retired value's message points to exists and keeps that value's results.
+    #[test]
+    fn each_retired_value_has_its_results_written() {
+        let page = fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/studies/retired.md"
+        ))
+        .unwrap();
+        for heading in [
+            "## `physics.axial_spin: Smooth`",
+            "## `physics.pressure_centre: Planing(f)`",
+        ] {
+            assert!(page.contains(heading), "{heading}");
+        }
+        assert!(page.contains("research-variants-before-retirement"));
     }
 
     /// `physics.steps_across_ticks` (numerics): omitted it is false, and it is written only when

@@ -10,12 +10,11 @@
 //! air and the friction off (the gyroscope alone, whose limit is exactly the locked throw), each
 //! against its own locked throw from the same launch heights. If a model's peak count beats its
 //! limit, the count must come down from that peak as the spin rises: criterion 2 cannot hold for
-//! that launch in that model. The lever of the contact's torque is swept too: the pressure at
-//! Savitsky (1964)'s planing centre (0.75 of the wetted length ahead of its trailing edge) and at
-//! the spray root (1), which change the torque only, so the locked throws must not move.
-//! Compute, then results, then the report.
+//! that launch in that model. (The lever of the contact's torque was swept here too, Savitsky's
+//! planing centre and the spray root; that option is retired and its rows are in
+//! docs/studies/retired.md.) Compute, then results, then the report.
 
-use crate::sim::params::{Preset, PressureCentre, Rotation};
+use crate::sim::params::{Preset, Rotation};
 
 use super::fidelity::{
     ensemble_offsets, lower_median, par_map, shape, shipped_for, spin_drops, spin_revs, spin_runs,
@@ -27,10 +26,6 @@ use super::{Ctx, StudyError};
 /// The label of the model with neither the air nor friction.
 const GYROSCOPE: &str = "gyroscope alone (air and friction off)";
 
-/// Savitsky (1964)'s planing centre of pressure: 0.75 of the wetted length ahead of its trailing
-/// edge, nearer the spray root than the area centroid (physics.md §7.3).
-const SAVITSKY: f64 = 0.75;
-
 /// One model of the comparison: its spin sweep and its locked throw.
 #[derive(Debug, Clone)]
 pub struct Variant {
@@ -40,8 +35,6 @@ pub struct Variant {
     /// Whether its spin is free of every effect that grows with spin (no friction), so that its
     /// infinite-spin limit is its locked throw.
     pub pure_gyroscope_limit: bool,
-    /// Where the contact's pressure acts (only the torque depends on it).
-    pub centre: PressureCentre,
     pub sweep: Vec<SpinRun>,
     /// Skips of the locked throw from each launch height, sorted.
     pub locked: Vec<usize>,
@@ -81,15 +74,9 @@ pub struct Quoted {
     pub tilt_check: Option<(f64, usize)>,
 }
 
-/// The default throw with the air and the friction on or off and its pressure centre.
-fn model(
-    quick: bool,
-    air: bool,
-    friction: bool,
-    centre: PressureCentre,
-) -> Result<Preset, StudyError> {
+/// The default throw with the air and the friction on or off.
+fn model(quick: bool, air: bool, friction: bool) -> Result<Preset, StudyError> {
     let mut p = shipped_for("default", quick)?;
-    p.physics.pressure_centre = centre;
     if !air {
         p.physics.air = None;
     }
@@ -119,20 +106,15 @@ pub fn compute(
 ) -> Result<LimitStudy, StudyError> {
     let q = ctx.quick;
     ctx.progress("the infinite-spin limit");
-    let faces = PressureCentre::Faces;
-    let savitsky = PressureCentre::Planing(SAVITSKY);
-    let spray_root = PressureCentre::Planing(1.0);
     let specs = [
-        ("shipped", true, true, faces, Some(shipped)),
-        ("air off", false, true, faces, Some(air_off)),
-        ("friction off", true, false, faces, None),
-        (GYROSCOPE, false, false, faces, None),
-        ("Savitsky's centre (0.75)", true, true, savitsky, None),
-        ("at the spray root (1)", true, true, spray_root, None),
+        ("shipped", true, true, Some(shipped)),
+        ("air off", false, true, Some(air_off)),
+        ("friction off", true, false, None),
+        (GYROSCOPE, false, false, None),
     ];
     let mut variants = Vec::new();
-    for (label, air, friction, centre, known) in specs {
-        let p = model(q, air, friction, centre)?;
+    for (label, air, friction, known) in specs {
+        let p = model(q, air, friction)?;
         let sweep = match known {
             Some(s) => s.to_vec(),
             None => spin_runs(&p, &spin_revs(q), &ensemble_offsets(q))?,
@@ -141,7 +123,6 @@ pub fn compute(
             label,
             air,
             pure_gyroscope_limit: !friction,
-            centre,
             sweep,
             locked: locked_ensemble(&p, q)?,
         });
@@ -200,52 +181,7 @@ pub fn section(l: &LimitStudy, quoted: &Quoted) -> String {
     for v in &l.variants {
         s.push_str(&variant_words(v));
     }
-    s.push_str(&centre_words(l));
     s.push_str(&mechanism_words(l, quoted));
-    s
-}
-
-/// What the pressure centre changes: the torque, so the free sweep, but not the locked throw.
-fn centre_words(l: &LimitStudy) -> String {
-    let with_air_and_friction: Vec<&Variant> = l
-        .variants
-        .iter()
-        .filter(|v| v.air && !v.pure_gyroscope_limit)
-        .collect();
-    let centres: Vec<String> = with_air_and_friction
-        .iter()
-        .map(|v| {
-            let at = match v.centre {
-                PressureCentre::Faces => "each face's centroid".to_owned(),
-                PressureCentre::Planing(f) => format!("{} of the wetted length", sig(f, 2)),
-            };
-            let drops = spin_drops(&v.sweep);
-            format!(
-                "{at}: {drops} drop{} of the median, locked {}",
-                if drops == 1 { "" } else { "s" },
-                v.locked_median()
-            )
-        })
-        .collect();
-    if centres.len() < 2 {
-        return String::new();
-    }
-    let locked_same = with_air_and_friction
-        .windows(2)
-        .all(|w| w[0].locked == w[1].locked);
-    let mut s = format!(
-        "\n\nWhere the contact's pressure acts sets the lever of its torque, and so how far a \
-         contact turns the axis at a given spin (issue 11 names the planing centre of pressure as \
-         a candidate). With the air and the friction on, the pressure at {}.",
-        centres.join("; at ")
-    );
-    if locked_same {
-        s.push_str(
-            " The locked throws agree skip for skip: a held stone feels no torque, so the \
-             centre reshapes the free sweep but cannot move the held-attitude count that the \
-             gyroscope tends to as the spin rises.",
-        );
-    }
     s
 }
 
@@ -427,7 +363,6 @@ mod tests {
             label: GYROSCOPE,
             air: false,
             pure_gyroscope_limit: true,
-            centre: PressureCentre::Faces,
             sweep: vec![
                 run(10.0, vec![3, 4, 5], 8.0),
                 run(30.0, vec![20, 30, 31], 4.0),
@@ -452,41 +387,5 @@ mod tests {
         assert!(words.contains("tilted 4.0° at 30.0 rev/s"), "{words}");
         assert!(words.contains("held at 5.0°: 29"), "{words}");
         assert!(words.contains("centre of mass is 26 mm"), "{words}");
-    }
-
-    #[test]
-    fn the_centre_words_compare_drops_and_say_whether_the_locked_throws_agree() {
-        let variant = |centre, locked: Vec<usize>| Variant {
-            label: "x",
-            air: true,
-            pure_gyroscope_limit: false,
-            centre,
-            sweep: vec![
-                run(10.0, vec![3, 4, 5], 8.0),
-                run(30.0, vec![20, 30, 31], 4.0),
-                run(150.0, vec![9, 10, 12], 19.0),
-            ],
-            locked,
-        };
-        let l = LimitStudy {
-            variants: vec![
-                variant(PressureCentre::Faces, vec![10, 11, 11]),
-                variant(PressureCentre::Planing(0.75), vec![10, 11, 11]),
-            ],
-        };
-        let words = centre_words(&l);
-        assert!(
-            words.contains("each face's centroid: 1 drop of the median, locked 11"),
-            "{words}"
-        );
-        assert!(words.contains("0.75 of the wetted length"), "{words}");
-        assert!(words.contains("agree skip for skip"), "{words}");
-        let l = LimitStudy {
-            variants: vec![
-                variant(PressureCentre::Faces, vec![10, 11, 11]),
-                variant(PressureCentre::Planing(1.0), vec![9, 11, 11]),
-            ],
-        };
-        assert!(!centre_words(&l).contains("agree skip for skip"));
     }
 }

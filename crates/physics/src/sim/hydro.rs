@@ -14,12 +14,13 @@
 //! - `pressure_sign: OpposesMotion` — the energy-consistent reading of eq. 19: a receding wetted face
 //!   (only possible with `ventilated: false`) is loaded along +N, so the pressure always opposes the
 //!   face's normal velocity and its power −p|v_n| S is never positive (physics.md §7.1).
-//! - `axial_spin: Smooth` — the mesh stands for a smooth body of revolution, whose surface spinning
+//! - `axial_spin: Resal` — the mesh stands for a smooth body of revolution, whose surface spinning
 //!   about its axis a moves only along itself: the normal velocity is taken from V + ω_⊥ × r with
 //!   ω_⊥ = ω − (ω·a)a, and the pressure's torque about a (zero on the smooth body) is removed, so the
 //!   facets neither paddle the water nor spin the stone up; friction still sees the full ω × r.
-//!   `axial_spin: Resal` is the same law on a mesh that meets the water without turning with the
-//!   spin (`integrate::mesh_orientation`): the pose this module gets is then already in that frame.
+//!   The mesh meets the water without turning with the spin (`integrate::mesh_orientation`): the
+//!   pose this module gets is already in that frame. (`axial_spin: Smooth`, the same law on a mesh
+//!   turning with the spin, is retired: docs/studies/retired.md.)
 //! - `buoyancy: true` — hydrostatic pressure ρ g d on each loaded face (Archimedes; d the depth of the
 //!   wetted centroid below the surface, exact for pressure linear in depth over a planar polygon),
 //!   along −N: the buoyant term of planing lift (Savitsky 1964's second term; Hewitt et al. 2011).
@@ -30,7 +31,7 @@ use glam::{DQuat, DVec3};
 
 use super::contact::{clip_triangle, WettedPatch};
 use super::kernel::{self, KernelScratch};
-use super::params::{ForceLaw, Hydrostatic, Physics, PressureCentre, PressureSign};
+use super::params::{ForceLaw, Hydrostatic, Physics, PressureSign};
 use super::smooth::SmoothLens;
 use super::stone::Stone;
 
@@ -42,12 +43,9 @@ pub struct HydroParams {
     pub friction: f64,
     pub density: f64,
     pub ventilated: bool,
-    /// Fraction of the wetted length (from its trailing edge, along the flow) at which the pressure's
-    /// resultant acts; `None`: at each face's wetted centroid.
-    pub pressure_centre: Option<f64>,
     /// Pressure on a receding wetted face opposes its motion (`PressureSign::OpposesMotion`).
     pub opposing: bool,
-    /// The axial spin of a body of revolution is not felt as normal velocity (`AxialSpin::Smooth`).
+    /// The axial spin of a body of revolution is not felt as normal velocity (`AxialSpin::Resal`).
     pub smooth_spin: bool,
     /// ρ g for hydrostatic pressure on the loaded faces (N/m³), 0 without buoyancy.
     pub rho_g: f64,
@@ -65,10 +63,6 @@ impl HydroParams {
             friction,
             density: p.water_density,
             ventilated: p.ventilated,
-            pressure_centre: match p.pressure_centre {
-                PressureCentre::Faces => None,
-                PressureCentre::Planing(f) => Some(f),
-            },
             opposing: p.pressure_sign == PressureSign::OpposesMotion,
             smooth_spin: p.axial_spin.is_smooth(),
             rho_g: if p.buoyancy {
@@ -412,9 +406,6 @@ pub fn evaluate_reference(
         && spin.normal_omega == DVec3::ZERO
         && !(hp.hydrostatic_wetted && hp.rho_g != 0.0);
     let mut axial_pressure_torque = 0.0;
-    let mut planing = hp
-        .pressure_centre
-        .and_then(|f| Planing::new(f, pose.velocity));
     for (t, tri) in stone.mesh.triangles.iter().enumerate() {
         let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
         let d = [scratch.height[a], scratch.height[b], scratch.height[c]];
@@ -459,9 +450,6 @@ pub fn evaluate_reference(
         if let Some(axis) = spin.axis {
             axial_pressure_torque += r.cross(normal * f.dot(normal)).dot(axis);
         }
-        if let Some(pl) = planing.as_mut() {
-            pl.add_face(p, d, pose.position, r, normal, f);
-        }
         if record {
             scratch.loads.push(FaceLoad {
                 x: patch.centroid.x,
@@ -470,9 +458,6 @@ pub fn evaluate_reference(
                 footprint: patch.area * normal.z.abs(),
             });
         }
-    }
-    if let Some(pl) = planing {
-        sum.torque += pl.torque_shift();
     }
     if let Some(axis) = spin.axis {
         // The smooth body's pressure passes through its axis: no torque about it.
@@ -507,85 +492,6 @@ impl SpinSplit {
     }
 }
 
-/// The planing centre of pressure (Savitsky 1964; physics.md §7.3): the faces' pressure forces keep
-/// their sum and their sideways moments, and their resultant's position along the horizontal flow
-/// direction d moves from the pressure-weighted mean of the face centroids to the given fraction of
-/// the wetted length ahead of the trailing edge. The wetted length spans the wetted points (wet
-/// vertices and waterline crossings of the loaded faces) along d.
-#[derive(Debug, Clone, Copy)]
-struct Planing {
-    fraction: f64,
-    /// Unit horizontal flow direction.
-    dir: DVec3,
-    /// Σ pressure force, Σ |pressure|, Σ |pressure|·s (s = r·d of the face's centroid).
-    pressure: DVec3,
-    weight: f64,
-    moment: f64,
-    s_min: f64,
-    s_max: f64,
-}
-
-impl Planing {
-    /// `None` when the stone has no horizontal speed (no flow direction to measure along).
-    fn new(fraction: f64, velocity: DVec3) -> Option<Self> {
-        let horizontal = DVec3::new(velocity.x, velocity.y, 0.0);
-        let len = horizontal.length();
-        (len > 1e-9).then(|| Self {
-            fraction,
-            dir: horizontal / len,
-            pressure: DVec3::ZERO,
-            weight: 0.0,
-            moment: 0.0,
-            s_min: f64::INFINITY,
-            s_max: f64::NEG_INFINITY,
-        })
-    }
-
-    /// One loaded face: vertices `p` with signed heights `d` above the surface, centroid offset `r`
-    /// from the centre of mass at `com`, outward normal, and the face's total force `f`.
-    fn add_face(
-        &mut self,
-        p: [DVec3; 3],
-        d: [f64; 3],
-        com: DVec3,
-        r: DVec3,
-        normal: DVec3,
-        f: DVec3,
-    ) {
-        let pn = f.dot(normal);
-        let pressure = normal * pn;
-        let w = pn.abs();
-        self.pressure += pressure;
-        self.weight += w;
-        self.moment += w * r.dot(self.dir);
-        for i in 0..3 {
-            let j = (i + 1) % 3;
-            if d[i] <= 0.0 {
-                self.extend((p[i] - com).dot(self.dir));
-            }
-            if (d[i] <= 0.0) != (d[j] <= 0.0) {
-                let t = d[i] / (d[i] - d[j]);
-                self.extend((p[i] + (p[j] - p[i]) * t - com).dot(self.dir));
-            }
-        }
-    }
-
-    fn extend(&mut self, s: f64) {
-        self.s_min = self.s_min.min(s);
-        self.s_max = self.s_max.max(s);
-    }
-
-    /// Torque added by moving the pressure's resultant along d to the planing centre.
-    fn torque_shift(&self) -> DVec3 {
-        if !(self.weight > 0.0 && self.s_max >= self.s_min) {
-            return DVec3::ZERO;
-        }
-        let target = self.s_min + self.fraction * (self.s_max - self.s_min);
-        let shift = target - self.moment / self.weight;
-        (self.dir * shift).cross(self.pressure)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -599,7 +505,6 @@ mod tests {
             friction,
             density: 1000.0,
             ventilated,
-            pressure_centre: None,
             opposing: false,
             smooth_spin: false,
             rho_g: 0.0,
@@ -753,7 +658,7 @@ mod tests {
 
     #[test]
     fn smooth_axial_spin_changes_nothing_on_the_smooth_part_and_takes_no_axial_torque() {
-        // A lens spinning fast about its axis and planing: with `Smooth` the pressure sees no spin
+        // A lens spinning fast about its axis and planing: with a smooth spin the pressure sees none
         // (the same pressure force as without spin, to rounding), the torque has no component along
         // the axis from pressure.
         let stone = Stone::new(&crate::sim::params::StoneParams {
@@ -795,63 +700,6 @@ mod tests {
         let scale = still.force.length();
         assert!((smooth.force - still.force).length() < 1e-9 * scale);
         assert!(smooth.torque.dot(axis).abs() < 1e-12 * scale * 0.05);
-    }
-
-    /// The planing option moves the pressure's resultant to the given fraction of the wetted length
-    /// along the flow: on a flat plate wetted over its whole bottom (uniform Bocquet pressure, so the
-    /// faces put it at the middle) fraction f puts it (f − ½)·L ahead of the middle, the torque about
-    /// the lateral axis changing by −(f − ½)·L·F_z; the force itself is unchanged.
-    #[test]
-    fn planing_centre_moves_the_resultant_along_the_flow() {
-        use crate::sim::params::{Shape, StoneParams};
-        let (length, thickness) = (0.2, 1e-4);
-        let stone = Stone::new(&StoneParams {
-            shape: Shape::Plate {
-                length,
-                width: 0.1,
-                thickness,
-            },
-            mass: 0.1,
-            segments: 8,
-            bands: None,
-            quadrature: Default::default(),
-        })
-        .unwrap();
-        let pose = Pose {
-            position: DVec3::new(0.0, 0.0, 0.0),
-            velocity: DVec3::new(3.0, 0.0, -0.3),
-            orientation: DQuat::IDENTITY,
-            angular_velocity: DVec3::ZERO,
-        };
-        let run = |centre: Option<f64>| {
-            let h = HydroParams {
-                pressure_centre: centre,
-                ..hp(ForceLaw::Bocquet, true)
-            };
-            evaluate(
-                &stone,
-                &h,
-                &pose,
-                &FlatSurface,
-                &mut Scratch::default(),
-                false,
-            )
-        };
-        let faces = run(None);
-        assert!(faces.force.z > 0.0);
-        // Only the front edge face (thickness/length of the load) is off the middle.
-        let tol = 2.0 * thickness / length * length * faces.force.z;
-        assert!(faces.torque.y.abs() < tol, "{:?}", faces.torque);
-        for f in [0.0, 0.5, 0.75, 1.0] {
-            let s = run(Some(f));
-            assert_eq!(s.force, faces.force);
-            let expect = -(f - 0.5) * length * faces.force.z;
-            assert!(
-                (s.torque.y - expect).abs() < tol,
-                "fraction {f}: torque {} expected {expect}",
-                s.torque.y
-            );
-        }
     }
 
     #[test]

@@ -648,7 +648,7 @@ impl Simulation {
     /// water grid alike (gravity and density set the grid's flow law and its automatic step).
     pub fn set_physics(&mut self, physics: Physics) -> Result<(), ParamError> {
         physics.validate()?;
-        // The smooth quadrature's own conditions (a smooth spin, no planing centre).
+        // The smooth quadrature's own conditions (a smooth spin).
         Preset {
             physics,
             ..self.preset.clone()
@@ -1853,8 +1853,15 @@ pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
 mod tests {
     use super::*;
 
+    #[test]
+    fn outcomes_read_as_words() {
+        assert_eq!(Outcome::Sank.words(), "sank");
+        assert_eq!(Outcome::LeftDomain.words(), "left the lake");
+        assert_eq!(Outcome::Timeout.words(), "still going at the time limit");
+    }
+
     /// Live physics edits keep a smooth stone's conditions: a faceted spin under free rotation or
-    /// a planing centre is refused with the field named, and the run goes on as it was.
+    /// is refused with the field named, and the run goes on as it was.
     #[test]
     fn live_physics_keeps_the_smooth_quadrature_consistent() {
         let mut p = Preset::version_1();
@@ -1870,12 +1877,6 @@ mod tests {
         assert_eq!(
             sim.set_physics(faceted).unwrap_err().field,
             "physics.axial_spin"
-        );
-        let mut planing = p.physics;
-        planing.pressure_centre = params::PressureCentre::Planing(0.75);
-        assert_eq!(
-            sim.set_physics(planing).unwrap_err().field,
-            "physics.pressure_centre"
         );
         assert_eq!(sim.preset.physics, p.physics);
         let mut heavier = p.physics;

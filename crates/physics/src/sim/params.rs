@@ -335,15 +335,50 @@ pub enum Rotation {
 
 /// Where the pressure of a contact acts along the flow (physics.md §7.3). Only the torque depends on it,
 /// so it matters under `rotation: Free` alone.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// Where the pressure acts (torque only). The planing centre (`Planing(f)`, Savitsky 1964) is
+/// retired: docs/studies/retired.md.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(try_from = "PressureCentreName")]
 pub enum PressureCentre {
     /// Each wetted face's pressure at that face's wetted centroid (the paper's eqs. 25–26): uniform
     /// pressure puts the load at the area centroid.
     Faces,
-    /// Planing (Savitsky 1964): the pressure's resultant acts at this fraction (0–1) of the wetted length
-    /// ahead of its trailing edge, measured along the horizontal flow (0.75 in Savitsky's data); its
-    /// sideways position and the friction stay as the faces give them.
-    Planing(f64),
+}
+
+/// Every value `physics.pressure_centre` ever took, the retired one included.
+#[derive(Deserialize)]
+enum PressureCentreName {
+    Faces,
+    Planing(#[allow(dead_code)] f64),
+}
+
+impl TryFrom<PressureCentreName> for PressureCentre {
+    type Error = Retired;
+    fn try_from(name: PressureCentreName) -> Result<Self, Retired> {
+        match name {
+            PressureCentreName::Faces => Ok(Self::Faces),
+            PressureCentreName::Planing(_) => Err(Retired {
+                field: "physics.pressure_centre",
+                value: "Planing",
+                why:
+                    "Savitsky's planing centre moved the skip count by at most one and no shipped \
+                      preset used it; write Faces",
+            }),
+        }
+    }
+}
+
+/// A preset value that is retired (issue 40): its question is answered and no shipped preset used
+/// it. Reading it fails with this one message, which names the field and where its results are.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "`{field}: {value}` is retired: {why}; its results, and the git tag that still runs it, are \
+     in docs/studies/retired.md"
+)]
+pub struct Retired {
+    pub field: &'static str,
+    pub value: &'static str,
+    pub why: &'static str,
 }
 
 /// How a wetted face that recedes from the water is loaded when `ventilated` is false (physics.md
@@ -359,25 +394,51 @@ pub enum PressureSign {
 }
 
 /// What the per-face pressure sees of the spin about a body of revolution's own axis.
+/// (`Smooth`, the Résal law on a mesh that turns with the spin, is retired:
+/// docs/studies/retired.md.)
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(try_from = "AxialSpinName")]
 pub enum AxialSpin {
     /// The faceted mesh as it is: the spin's velocity ω_s a × r has a normal component on facets
-    /// that are not exactly tangent to the circles of the revolution (today's behaviour; at 50 rev/s
-    /// it paddles the water with a few m/s of spurious normal velocity near the rim).
+    /// that are not exactly tangent to the circles of the revolution (at 50 rev/s it paddles the
+    /// water with a few m/s of spurious normal velocity near the rim).
     Faceted,
-    /// The smooth body of revolution the mesh stands for: a surface of revolution spinning about its
-    /// axis moves only along itself, so the axial spin adds nothing to any face's normal velocity (it
-    /// still drags tangentially through friction). Plates are not bodies of revolution: no effect.
-    Smooth,
-    /// As `Smooth`, and under free rotation the mesh meets the water in a Résal frame (the frame
-    /// of gyroscope theory that follows the symmetry axis but not the spin about it): its
-    /// azimuth is held to the flow, the mesh's azimuth 0 (a column of vertices) on the velocity's
-    /// component in the stone's plane. The smooth body's forces do not depend on that azimuth, but the faceted
-    /// mesh's do: turning with the spin, its facets sweep past the waterline spin × segments
-    /// times a second (900 Hz at 14 rev/s and 64 segments), a ripple of the force that is the
-    /// mesh's and not the body's, and that the error control of `Adaptive` resolves with small
-    /// steps. The stone's orientation, spin and rendering are unchanged.
+    /// The smooth body of revolution the mesh stands for: a surface of revolution spinning about
+    /// its axis moves only along itself, so the axial spin adds nothing to any face's normal
+    /// velocity (it still drags tangentially through friction); and under free rotation the mesh
+    /// meets the water in a Résal frame (the frame of gyroscope theory that follows the symmetry
+    /// axis but not the spin about it): its azimuth is held to the flow, the mesh's azimuth 0 (a
+    /// column of vertices) on the velocity's component in the stone's plane. The smooth body's
+    /// forces do not depend on that azimuth, but the faceted mesh's do: turning with the spin, its
+    /// facets would sweep past the waterline spin × segments times a second (900 Hz at 14 rev/s
+    /// and 64 segments), a ripple of the force that is the mesh's and not the body's, and that the
+    /// error control of `Adaptive` resolves with small steps. The stone's orientation, spin and
+    /// rendering are unchanged. Plates are not bodies of revolution: no effect.
     Resal,
+}
+
+/// Every value `physics.axial_spin` ever took, the retired one included.
+#[derive(Deserialize)]
+enum AxialSpinName {
+    Faceted,
+    Smooth,
+    Resal,
+}
+
+impl TryFrom<AxialSpinName> for AxialSpin {
+    type Error = Retired;
+    fn try_from(name: AxialSpinName) -> Result<Self, Retired> {
+        match name {
+            AxialSpinName::Faceted => Ok(Self::Faceted),
+            AxialSpinName::Resal => Ok(Self::Resal),
+            AxialSpinName::Smooth => Err(Retired {
+                field: "physics.axial_spin",
+                value: "Smooth",
+                why: "Resal is the same smooth law with the mesh held to the flow, the same \
+                      forces without the facets' ripple; write Resal",
+            }),
+        }
+    }
 }
 
 impl AxialSpin {
@@ -400,9 +461,6 @@ pub enum Hydrostatic {
     /// face, Rosellini et al. 2005) then removes the dynamic pressure and friction only.
     WettedFaces,
 }
-
-/// Savitsky's centre of pressure: 0.75 of the wetted length ahead of the trailing edge.
-pub const SAVITSKY_CENTRE: f64 = 0.75;
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default = "Physics::omitted", deny_unknown_fields)]
@@ -800,13 +858,7 @@ impl Preset {
         if self.physics.rotation == Rotation::Free && !self.physics.axial_spin.is_smooth() {
             return refuse(
                 "physics.axial_spin",
-                "expected Smooth or Resal (a smooth body has no facets to turn)",
-            );
-        }
-        if self.physics.pressure_centre != PressureCentre::Faces {
-            return refuse(
-                "physics.pressure_centre",
-                "expected Faces (the planing centre needs the faces' wetted length)",
+                "expected Resal (a smooth body has no facets to turn)",
             );
         }
         Ok(())
@@ -963,15 +1015,6 @@ impl Physics {
         check_range("physics.tolerance", self.tolerance, 1e-12, 1e-2, "")?;
         if let Some(m) = self.wetted_memory {
             check_positive("physics.wetted_memory.lag", m.lag, 100.0, "")?;
-        }
-        if let PressureCentre::Planing(f) = self.pressure_centre {
-            check_range(
-                "physics.pressure_centre.Planing",
-                f,
-                0.0,
-                1.0,
-                "of the wetted length",
-            )?;
         }
         if let Some(a) = self.air {
             check_range("physics.air.density", a.density, 0.0, 100.0, "kg/m³")?;

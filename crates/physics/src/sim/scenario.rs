@@ -5,7 +5,7 @@
 
 use glam::DMat3;
 
-use super::params::{Attitude, ForceLaw, Preset, PressureCentre, Rotation, Shape, StoneParams};
+use super::params::{Attitude, ForceLaw, Preset, Rotation, Shape, StoneParams};
 use super::stone::{orientation_from_attitude, Stone};
 use super::{SimError, Simulation};
 
@@ -128,7 +128,7 @@ pub const TYPICAL_RADIUS: f64 = 0.05;
 
 /// The typical stone of the spin-limited count: a 10 cm, 150 g disc thrown at 12 m/s from 25 cm with
 /// V_z = −0.5 m/s at a 15° tilt, Rosellini law, water off; `None`: locked attitude.
-pub fn typical(rev_s: Option<f64>, centre: PressureCentre) -> Preset {
+pub fn typical(rev_s: Option<f64>) -> Preset {
     let mut p = Preset {
         name: "typical spun stone".into(),
         ..Preset::version_1()
@@ -151,7 +151,6 @@ pub fn typical(rev_s: Option<f64>, centre: PressureCentre) -> Preset {
         heading_deg: 0.0,
     };
     p.physics.force_law = ForceLaw::Rosellini;
-    p.physics.pressure_centre = centre;
     p.physics.max_time = 20.0;
     match rev_s {
         Some(s) => {

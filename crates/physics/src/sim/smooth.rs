@@ -786,7 +786,7 @@ mod tests {
             buoyancy: true,
             ..Physics::version_1()
         };
-        p.axial_spin = crate::sim::params::AxialSpin::Smooth;
+        p.axial_spin = crate::sim::params::AxialSpin::Resal;
         p.hydrostatic = crate::sim::params::Hydrostatic::WettedFaces;
         HydroParams::from_physics(&p)
     }

@@ -22,7 +22,7 @@ fn wake() -> Simulation {
     p.launch.velocity = [12.0, 0.0, -0.5];
     p.launch.spin = 88.0;
     p.physics.rotation = Rotation::Free;
-    p.physics.axial_spin = AxialSpin::Smooth;
+    p.physics.axial_spin = AxialSpin::Resal;
     p.physics.air = Some(Default::default());
     p.water.enabled = true;
     p.water.wavy_contact = true;

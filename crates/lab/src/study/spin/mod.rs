@@ -3,7 +3,8 @@
 //!
 //! * **Spin × tilt map.** Skips of Clanet's disc (Clanet, Hersen & Bocquet, Nature 2004) thrown at
 //!   U = 3.5 m/s, β = 20° under `rotation: Free`, over spin and tilt, with the pressure at the faces
-//!   (the paper's eqs. 25–26) and at Savitsky's planing centre (0.75 of the wetted length). The spin
+//!   (the paper's eqs. 25–26; Savitsky's planing centre, compared here before, is retired and its
+//!   rows are kept in docs/studies/retired.md). The spin
 //!   threshold per tilt (first contact skips) is drawn over it, with the literature's rule of thumb of
 //!   about one revolution per contact (VC-13).
 //! * **VC-12.** The reference throw, α = β = 20° at 65 rev/s: how far the stone's plane turns in its
@@ -41,23 +42,18 @@ pub const VC12_SPIN_REV_S: f64 = 65.0;
 /// VC-13's tilt, at which the spin threshold is located precisely.
 pub const VC13_TILT_DEG: f64 = 35.0;
 
-/// The two centre-of-pressure models compared.
-pub const CENTRES: [PressureCentre; 2] = [
-    PressureCentre::Faces,
-    PressureCentre::Planing(crate::sim::params::SAVITSKY_CENTRE),
-];
+/// The centre-of-pressure models compared (the planing centre is retired: docs/studies/retired.md).
+pub const CENTRES: [PressureCentre; 1] = [PressureCentre::Faces];
 
 pub fn centre_name(c: PressureCentre) -> String {
     match c {
         PressureCentre::Faces => "faces (area centroids)".into(),
-        PressureCentre::Planing(f) => format!("planing ({f} of wetted length)"),
     }
 }
 
 pub fn centre_key(c: PressureCentre) -> &'static str {
     match c {
         PressureCentre::Faces => "faces",
-        PressureCentre::Planing(_) => "planing",
     }
 }
 
@@ -206,13 +202,13 @@ pub struct CountPoint {
 }
 
 /// Skips of the typical stone at each spin (and locked, last).
-pub fn spin_counts(centre: PressureCentre, spins: &[f64]) -> Result<Vec<CountPoint>, StudyError> {
+pub fn spin_counts(spins: &[f64]) -> Result<Vec<CountPoint>, StudyError> {
     let mut runs: Vec<Option<f64>> = spins.iter().map(|&s| Some(s)).collect();
     runs.push(None);
     runs.par_iter()
         .map(|&rev_s| {
             check_cancel()?;
-            let s = crate::sim::simulate(&typical(rev_s, centre))?;
+            let s = crate::sim::simulate(&typical(rev_s))?;
             Ok(CountPoint {
                 rev_s,
                 skips: s.skips,
@@ -289,7 +285,7 @@ pub fn run(ctx: &Ctx) -> Result<String, StudyError> {
         )?;
         let vc12 = spin_point(VC12_TILT_DEG, VC12_SPIN_REV_S, centre)?;
         let vc12_no_spin = spin_point(VC12_TILT_DEG, 0.0, centre)?;
-        let counts = spin_counts(centre, &g.curve_spins)?;
+        let counts = spin_counts(&g.curve_spins)?;
         results.push(CentreResult {
             centre,
             map,

@@ -235,7 +235,7 @@ fn drops(counts: &[CountPoint], value: impl Fn(&CountPoint) -> f64) -> usize {
 fn report(g: &SpinGrid, results: &[CentreResult]) -> String {
     let mut s = String::from("## Spin axis: the stone as a free rigid body\n\n");
     s.push_str(&format!(
-        "`rotation: Free`, Rosellini law. Map: Clanet's disc at U {MAP_SPEED} m/s, β {MAP_BETA_DEG}°, tilt {}–{}°, spin {}–{} rev/s; a cell counts the skips of the whole run. Two models of where the pressure acts (only the torque differs): at each wetted face's centroid (the paper's eqs. 25–26, the default), and at Savitsky's planing centre, 0.75 of the wetted length ahead of its trailing edge (`physics.pressure_centre: Planing(0.75)`). Published (VC-12, VC-13): without spin the disc pitches nose-down and dives; about one revolution per contact is enough to skip; at 65 rev/s, α = β = 20°, α stays nearly constant through the contact.\n\n",
+        "`rotation: Free`, Rosellini law. Map: Clanet's disc at U {MAP_SPEED} m/s, β {MAP_BETA_DEG}°, tilt {}–{}°, spin {}–{} rev/s; a cell counts the skips of the whole run. The pressure acts at each wetted face's centroid (the paper's eqs. 25–26); Savitsky's planing centre, compared here until issue 40, is retired, and its rows are in docs/studies/retired.md. Published (VC-12, VC-13): without spin the disc pitches nose-down and dives; about one revolution per contact is enough to skip; at 65 rev/s, α = β = 20°, α stays nearly constant through the contact.\n\n",
         g.tilts.first().copied().unwrap_or(0.0),
         g.tilts.last().copied().unwrap_or(0.0),
         g.spins.first().copied().unwrap_or(0.0),

@@ -48,7 +48,7 @@ const NO_CHILD: u32 = u32::MAX;
 /// [`hydro::evaluate`]: super::hydro::evaluate
 pub fn fast_path_supports(hp: &HydroParams) -> bool {
     // The kernel takes these as they are: the lanes' law mirrors `face_force` for every law
-    // (tested bit for bit), ventilation either way, either pressure centre and sign, smooth or
+    // (tested bit for bit), ventilation either way, either pressure sign, smooth or
     // faceted spin, with or without buoyancy, on the loaded or on every wetted face.
     let HydroParams {
         law,
@@ -56,7 +56,6 @@ pub fn fast_path_supports(hp: &HydroParams) -> bool {
         friction: _,
         density: _,
         ventilated: _,
-        pressure_centre: _,
         opposing: _,
         smooth_spin: _,
         rho_g: _,
@@ -680,8 +679,6 @@ struct Ctx<'a> {
     normal_w: Option<DVec3>,
     /// The symmetry axis (frame) whose pressure torque is removed (`axial_spin: Smooth`).
     axis: Option<DVec3>,
-    /// Unit horizontal flow direction (frame), with the planing centre.
-    dir: Option<DVec3>,
     record: bool,
     /// Frame → world (`None`: the frame is world axes).
     rot: Option<DMat3>,
@@ -704,11 +701,6 @@ impl<'a> Ctx<'a> {
             Some(r) => r.transpose() * x,
             None => x,
         };
-        let dir = hp.pressure_centre.and_then(|_| {
-            let h = DVec3::new(pose.velocity.x, pose.velocity.y, 0.0);
-            let len = h.length();
-            (len > 1e-9).then(|| to_frame(h / len))
-        });
         // As the reference's `SpinSplit`: ω_⊥ = ω − (ω·a)a on a smooth body of revolution.
         let revolution = stone.shape.is_revolution();
         let (normal_w, axis) = if hp.smooth_spin && revolution {
@@ -731,7 +723,6 @@ impl<'a> Ctx<'a> {
             speed: pose.velocity.length(),
             normal_w,
             axis,
-            dir,
             record: call.record,
             rot,
             position: pose.position,
@@ -743,12 +734,6 @@ impl<'a> Ctx<'a> {
     /// Any issue-11 option on (the SIMD chunks have a leaner variant without them).
     fn has_extras(&self) -> bool {
         self.opposing || self.rho_g != 0.0 || self.normal_w.is_some() || self.axis.is_some()
-    }
-
-    /// The options the explicit-SIMD chunks implement: all but the planing centre (whose wetted
-    /// length needs each face's corners).
-    fn is_plain(&self) -> bool {
-        self.dir.is_none()
     }
 
     /// A ventilated face receding from the water (V·N ≤ 0) carries nothing, known before it is
@@ -871,12 +856,6 @@ struct LaneAcc<const N: usize> {
     force: [[f64; N]; 3],
     torque: [[f64; N]; 3],
     area: [f64; N],
-    /// Planing: Σ pressure force, Σ |pressure|, Σ |pressure|·s, extent of s.
-    pressure: [[f64; N]; 3],
-    weight: [f64; N],
-    moment: [f64; N],
-    s_min: [f64; N],
-    s_max: [f64; N],
     /// Σ (r × pressure force)·a, removed with `axial_spin: Smooth`.
     axial: [f64; N],
 }
@@ -887,11 +866,6 @@ impl<const N: usize> Default for LaneAcc<N> {
             force: [[0.0; N]; 3],
             torque: [[0.0; N]; 3],
             area: [0.0; N],
-            pressure: [[0.0; N]; 3],
-            weight: [0.0; N],
-            moment: [0.0; N],
-            s_min: [f64::INFINITY; N],
-            s_max: [f64::NEG_INFINITY; N],
             axial: [0.0; N],
         }
     }
@@ -903,11 +877,6 @@ struct Acc {
     force: DVec3,
     torque: DVec3,
     area: f64,
-    pressure: DVec3,
-    weight: f64,
-    moment: f64,
-    s_min: f64,
-    s_max: f64,
     axial: f64,
     /// Running sums of the wholly wet faces in chunks of the ranges, chunks of the lists, one by
     /// one, and of the clipped faces: added at the end, in that order.
@@ -925,11 +894,6 @@ impl Default for Acc {
             force: DVec3::ZERO,
             torque: DVec3::ZERO,
             area: 0.0,
-            pressure: DVec3::ZERO,
-            weight: 0.0,
-            moment: 0.0,
-            s_min: f64::INFINITY,
-            s_max: f64::NEG_INFINITY,
             axial: 0.0,
             chunks: LaneAcc::default(),
             listed: LaneAcc::default(),
@@ -947,44 +911,8 @@ impl Acc {
             self.force += at(&la.force);
             self.torque += at(&la.torque);
             self.area += la.area[l];
-            self.pressure += at(&la.pressure);
-            self.weight += la.weight[l];
-            self.moment += la.moment[l];
-            self.s_min = self.s_min.min(la.s_min[l]);
-            self.s_max = self.s_max.max(la.s_max[l]);
             self.axial += la.axial[l];
         }
-    }
-
-    fn extend(&mut self, s: f64) {
-        self.s_min = self.s_min.min(s);
-        self.s_max = self.s_max.max(s);
-    }
-
-    /// Extends the wetted extent along `dir` over the wet part of the triangle `p` whose corners
-    /// have signed heights `d` (its wet corners and the points where its edges cross the water).
-    fn extend_wetted(&mut self, p: [DVec3; 3], d: [f64; 3], dir: DVec3) {
-        for k in 0..3 {
-            let j = (k + 1) % 3;
-            if d[k] <= 0.0 {
-                self.extend(p[k].dot(dir));
-            }
-            if (d[k] <= 0.0) != (d[j] <= 0.0) {
-                let t = d[k] / (d[k] - d[j]);
-                self.extend((p[k] + (p[j] - p[k]) * t).dot(dir));
-            }
-        }
-    }
-
-    /// Torque added by moving the pressure's resultant along `dir` to the planing centre
-    /// (the reference's `Planing::torque_shift`).
-    fn planing_shift(&self, fraction: f64, dir: DVec3) -> DVec3 {
-        if !(self.weight > 0.0 && self.s_max >= self.s_min) {
-            return DVec3::ZERO;
-        }
-        let target = self.s_min + fraction * (self.s_max - self.s_min);
-        let shift = target - self.moment / self.weight;
-        (dir * shift).cross(self.pressure)
     }
 }
 
@@ -1107,19 +1035,6 @@ fn contribute<const N: usize, const LAW: u8, const ROT: bool>(
         acc.torque[2][l] += keep(gx * fy - fx * gy);
         acc.area[l] += keep(x.area[l]);
     }
-    if let Some(d) = c.dir {
-        for l in 0..N {
-            let keep = |a: f64| if loaded[l] { a } else { 0.0 };
-            let (nx, ny, nz) = (x.n[0][l], x.n[1][l], x.n[2][l]);
-            let pn = (f[0][l] * nx + f[1][l] * ny) + f[2][l] * nz;
-            acc.pressure[0][l] += keep(nx * pn);
-            acc.pressure[1][l] += keep(ny * pn);
-            acc.pressure[2][l] += keep(nz * pn);
-            let w = pn.abs();
-            acc.weight[l] += keep(w);
-            acc.moment[l] += keep(w * ((g[0][l] * d.x + g[1][l] * d.y) + g[2][l] * d.z));
-        }
-    }
     if let Some(a) = c.axis {
         for l in 0..N {
             let (nx, ny, nz) = (n[0][l], n[1][l], n[2][l]);
@@ -1133,7 +1048,7 @@ fn contribute<const N: usize, const LAW: u8, const ROT: bool>(
     (loaded, f)
 }
 
-/// Wholly wet faces from `s`: law, sums, the planing extent over their corners, the records.
+/// Wholly wet faces from `s`: law, sums, the records.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)]
 fn wet_chunk<const N: usize, const LAW: u8, const ROT: bool, S: Source<N>>(
@@ -1145,20 +1060,6 @@ fn wet_chunk<const N: usize, const LAW: u8, const ROT: bool, S: Source<N>>(
 ) {
     let x = load(faces, s);
     let (loaded, f) = contribute::<N, LAW, ROT>(c, &x, acc);
-    if let Some(d) = c.dir {
-        for k in 0..3 {
-            let (px, py, pz) = (
-                s.at(&faces.pos[k][0]),
-                s.at(&faces.pos[k][1]),
-                s.at(&faces.pos[k][2]),
-            );
-            for l in 0..N {
-                let sv = (px[l] * d.x + py[l] * d.y) + pz[l] * d.z;
-                acc.s_min[l] = acc.s_min[l].min(if loaded[l] { sv } else { f64::INFINITY });
-                acc.s_max[l] = acc.s_max[l].max(if loaded[l] { sv } else { f64::NEG_INFINITY });
-            }
-        }
-    }
     if c.record {
         for l in 0..N {
             if loaded[l] {
@@ -1214,16 +1115,13 @@ unsafe fn wet_faces_avx2<const LAW: u8, const ROT: bool>(
     acc: &mut Acc,
     loads: &mut Vec<FaceLoad>,
 ) {
-    let plain = c.is_plain();
-    if plain {
-        let full = range.start + (range.len() / LANES) * LANES;
-        // SAFETY: AVX2 is enabled in this function; the chunks lie inside the face arrays.
-        unsafe {
-            simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks, loads);
-            simd::plain_list::<LAW, ROT>(c, faces, list, &mut acc.listed, loads);
-        };
-    }
-    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, plain)
+    let full = range.start + (range.len() / LANES) * LANES;
+    // SAFETY: AVX2 is enabled in this function; the chunks lie inside the face arrays.
+    unsafe {
+        simd::plain_chunks::<LAW, ROT>(c, faces, range.start, full, &mut acc.chunks, loads);
+        simd::plain_list::<LAW, ROT>(c, faces, list, &mut acc.listed, loads);
+    };
+    wet_faces_body::<LAW, ROT>(c, faces, range, list, acc, loads, true)
 }
 
 fn wet_faces_portable<const LAW: u8, const ROT: bool>(
@@ -1258,8 +1156,7 @@ fn wet_faces<const LAW: u8, const ROT: bool>(
     wet_faces_portable::<LAW, ROT>(c, faces, range, list, acc, loads)
 }
 
-/// Explicit AVX2 for every option but the planing centre (buoyancy on wavy water reads each
-/// face's depth through the scalar expression): the operations of [`lane_law`] and [`contribute`]
+/// Explicit AVX2 for every option (buoyancy on wavy water reads each face's depth through the scalar expression): the operations of [`lane_law`] and [`contribute`]
 /// in the same order, four faces per register.
 #[cfg(target_arch = "x86_64")]
 mod simd {
@@ -1703,9 +1600,6 @@ fn band_face<const LAW: u8, const ROT: bool>(
     if !loaded[0] {
         return;
     }
-    if let Some(dir) = c.dir {
-        acc.extend_wetted(p, d, dir);
-    }
     if c.record {
         let fl = DVec3::new(f[0][0], f[1][0], f[2][0]);
         loads.push(c.load(patch.centroid, fl, normal, patch.area));
@@ -1785,7 +1679,7 @@ struct Call<'a> {
 }
 
 /// The sums as a [`ForceSum`] (world axes).
-fn finish(call: &Call, c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
+fn finish(c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
     let mut acc = *acc;
     let (chunks, listed, single, band, band4) =
         (acc.chunks, acc.listed, acc.single, acc.band, acc.band4);
@@ -1795,9 +1689,6 @@ fn finish(call: &Call, c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
     acc.add_lanes(&band);
     acc.add_lanes(&band4);
     let mut torque = acc.torque;
-    if let (Some(fraction), Some(dir)) = (call.hp.pressure_centre, c.dir) {
-        torque += acc.planing_shift(fraction, dir);
-    }
     if let Some(a) = c.axis {
         // The smooth body's pressure passes through its axis: no torque about it.
         torque -= a * acc.axial;
@@ -1883,7 +1774,7 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
     if !in_contact {
         return ForceSum::default();
     }
-    finish(call, &c, &acc, true)
+    finish(&c, &acc, true)
 }
 
 /// Free rotation: body frame, boxes cull.
@@ -1951,7 +1842,7 @@ fn body_path<const LAW: u8>(
     if !in_contact {
         return ForceSum::default();
     }
-    finish(call, &c, &acc, true)
+    finish(&c, &acc, true)
 }
 
 #[cfg(test)]
@@ -1982,7 +1873,6 @@ mod tests {
                     friction,
                     density: 1000.0,
                     ventilated: options & 1 != 0,
-                    pressure_centre: None,
                     opposing: options & 2 != 0,
                     smooth_spin: false,
                     rho_g: if options & 4 != 0 { 9810.0 } else { 0.0 },
@@ -2105,7 +1995,6 @@ mod tests {
                         friction,
                         density: 1000.0,
                         ventilated,
-                        pressure_centre: None,
                         opposing: extras & 1 != 0,
                         smooth_spin: extras & 2 != 0,
                         rho_g: if extras & 4 != 0 { 9810.0 } else { 0.0 },
@@ -2129,7 +2018,6 @@ mod tests {
                         record: false,
                     };
                     let c = Ctx::new(&stone, &hp, &pose, None, &call);
-                    assert!(c.is_plain());
                     let run = |simd: bool| {
                         let mut la = LaneAcc::<LANES>::default();
                         if simd {

@@ -14,8 +14,8 @@
 use glam::DVec3;
 
 use super::{
-    contribute, dot, finish, frame, wet_faces, Acc, Call, Ctx, FaceLoad, FaceSoa, ForceSum,
-    KernelScratch, Lanes, Mesh, LANES,
+    dot, finish, frame, wet_faces, Acc, Call, Ctx, FaceLoad, FaceSoa, ForceSum, KernelScratch,
+    Mesh, LANES,
 };
 use crate::sim::stone::{RevolutionLayout, Stone};
 
@@ -477,7 +477,7 @@ pub(super) fn ring_path<const LAW: u8>(
     if !in_contact {
         return ForceSum::default();
     }
-    finish(call, &c, &acc, true)
+    finish(&c, &acc, true)
 }
 
 /// The wetted part of face `i` of `faces` whose corners stand `d` above the surface, one or two
@@ -508,8 +508,7 @@ fn clipped(faces: &FaceSoa, i: usize, d: [f64; 3]) -> (f64, DVec3) {
 }
 
 /// The faces crossing the waterline: clipped, then their wetted patches through the wholly wet
-/// faces' lanes (padded with empty patches to whole chunks); with the planing centre, whose
-/// wetted length needs the crossings, four at a time in the portable lanes.
+/// faces' lanes (padded with empty patches to whole chunks).
 fn band_faces<const LAW: u8>(
     c: &Ctx,
     faces: &FaceSoa,
@@ -521,82 +520,18 @@ fn band_faces<const LAW: u8>(
     if band.is_empty() {
         return;
     }
-    if c.dir.is_none() {
-        let len = band.len().div_ceil(LANES) * LANES;
-        patches.reset_patches(len);
-        for (slot, &(i, d)) in band.iter().enumerate() {
-            let i = i as usize;
-            let (area, g) = clipped(faces, i, d);
-            for k in 0..3 {
-                patches.n[k][slot] = faces.n[k][i];
-                patches.g[k][slot] = g[k];
-            }
-            patches.area[slot] = area;
+    let len = band.len().div_ceil(LANES) * LANES;
+    patches.reset_patches(len);
+    for (slot, &(i, d)) in band.iter().enumerate() {
+        let i = i as usize;
+        let (area, g) = clipped(faces, i, d);
+        for k in 0..3 {
+            patches.n[k][slot] = faces.n[k][i];
+            patches.g[k][slot] = g[k];
         }
-        wet_faces::<LAW, true>(c, patches, 0..len, &[], acc, loads);
-        return;
+        patches.area[slot] = area;
     }
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU supports AVX2 (checked just above).
-        unsafe { band_faces_avx2::<LAW>(c, faces, band, acc, loads) };
-        return;
-    }
-    band_faces_body::<LAW>(c, faces, band, acc, loads)
-}
-
-/// [`band_faces_body`] compiled for AVX2 (no FMA: the same bits).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn band_faces_avx2<const LAW: u8>(
-    c: &Ctx,
-    faces: &FaceSoa,
-    band: &[(u32, [f64; 3])],
-    acc: &mut Acc,
-    loads: &mut Vec<FaceLoad>,
-) {
-    band_faces_body::<LAW>(c, faces, band, acc, loads)
-}
-
-#[inline(always)]
-fn band_faces_body<const LAW: u8>(
-    c: &Ctx,
-    faces: &FaceSoa,
-    band: &[(u32, [f64; 3])],
-    acc: &mut Acc,
-    loads: &mut Vec<FaceLoad>,
-) {
-    for chunk in band.chunks(LANES) {
-        // Lanes past the chunk's end keep a zero area: not loaded.
-        let mut x = Lanes::<LANES> {
-            n: [[0.0; LANES]; 3],
-            g: [[0.0; LANES]; 3],
-            area: [0.0; LANES],
-        };
-        for (l, &(i, d)) in chunk.iter().enumerate() {
-            let (area, g) = clipped(faces, i as usize, d);
-            for k in 0..3 {
-                x.n[k][l] = faces.n[k][i as usize];
-                x.g[k][l] = g[k];
-            }
-            x.area[l] = area;
-        }
-        let (loaded, f) = contribute::<LANES, LAW, true>(c, &x, &mut acc.band4);
-        for (l, &(i, d)) in chunk.iter().enumerate() {
-            if !loaded[l] {
-                continue;
-            }
-            let i = i as usize;
-            if let Some(dir) = c.dir {
-                acc.extend_wetted([0, 1, 2].map(|k| faces.corner(k, i)), d, dir);
-            }
-            if c.record {
-                let g = DVec3::new(x.g[0][l], x.g[1][l], x.g[2][l]);
-                let fl = DVec3::new(f[0][l], f[1][l], f[2][l]);
-                loads.push(c.load(g, fl, faces.normal(i), x.area[l]));
-            }
-        }
-    }
+    wet_faces::<LAW, true>(c, patches, 0..len, &[], acc, loads);
 }
 
 /// Wholly wet faces `range`: its whole chunks of lanes now, the rest to the gathered list.
