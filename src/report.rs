@@ -44,23 +44,8 @@ pub fn text_summary(s: &Summary) -> String {
     }
     if let Some(w) = s.water.as_ref().filter(|w| !w.stepped) {
         out.push_str(&format!(
-            "water left at rest ({:.6} m³): nothing in this run reads it ({}; --step-water steps it)\n",
+            "water left at rest ({:.6} m³): nothing in this run reads it (wavy contact off; --step-water steps it)\n",
             w.volume_initial,
-            if s.near_field.is_some() {
-                "the stone touches the spectral near field"
-            } else {
-                "wavy contact off"
-            }
-        ));
-    }
-    if let Some(n) = &s.near_field {
-        out.push_str(&format!(
-            "near field: spectral patch of {} × {} cells of {:.1} mm, {:.4} N·s received, {:.2e} N·s off the patch\n",
-            n.cells,
-            n.cells,
-            n.cell * 1e3,
-            n.impulse_received,
-            n.impulse_missed
         ));
     }
     if let Some(w) = s.water.as_ref().filter(|w| w.stepped) {
@@ -231,7 +216,6 @@ mod tests {
             force_evals: 10,
             contacts: Vec::new(),
             water: None,
-            near_field: None,
         }
     }
 

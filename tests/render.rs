@@ -589,63 +589,6 @@ fn the_lakes_edges_show_as_a_sand_rim_in_every_camera() {
     }
 }
 
-/// With the deep-water near field the patch the stone rides on shows as a pale outline around the
-/// stone (in the cameras that look down on it), and inside it the drawn surface is the patch's.
-#[test]
-fn the_near_field_shows_as_a_pale_outline_around_the_stone() {
-    let Some(mut off) = offscreen() else { return };
-    let mut p = default_preset();
-    p.water.enabled = true;
-    p.water.wavy_contact = true;
-    p.water.swell = None;
-    p.water.near_field = stoneskip::sim::params::NearField::Spectral;
-    // Just after the first contact: the patch holds its waves.
-    let state = SimulatedScene::at_time(&p, 0.5).unwrap();
-    assert!(!state.sim.contacts().is_empty());
-    let near = state.sim.near_field().expect("a near field");
-    let outline = stoneskip::render::build::near_field_outline(near);
-    let aspect = W as f32 / H as f32;
-    for view in [ViewMode::Top, ViewMode::Follow] {
-        let style = SceneStyle {
-            show_trail: false,
-            show_markers: false,
-            ..SceneStyle::default()
-        };
-        let scene = state.scene_for_view(style, view, 1.0, aspect);
-        assert!(outline.iter().all(|l| scene.lines.contains(l)), "{view:?}");
-        let with = off.render(&scene, W, H).unwrap();
-        let mut bare = scene.clone();
-        bare.lines.retain(|l| !outline.contains(l));
-        let without = off.render(&bare, W, H).unwrap();
-        // Changed pixels that are lighter than the water (the outline is a pale ice blue) and
-        // near where the camera projects a side of the patch.
-        let near_side = |x: u32, y: u32| {
-            outline.iter().any(|l| {
-                (0..=32).any(|k| {
-                    let q = l.a.lerp(l.b, k as f32 / 32.0);
-                    scene.camera.project(q, W, H).is_some_and(|q| {
-                        (q.x - x as f32).abs() < 4.0 && (q.y - y as f32).abs() < 4.0
-                    })
-                })
-            })
-        };
-        let (mut pale, mut stray) = (0, 0);
-        for (x, y, px) in with.enumerate_pixels() {
-            let q = without.get_pixel(x, y);
-            if (0..3).any(|c| px[c].abs_diff(q[c]) > 30) {
-                if luma(px) > luma(q) && px[2] >= px[0] && near_side(x, y) {
-                    pale += 1;
-                } else {
-                    stray += 1;
-                }
-            }
-        }
-        eprintln!("{view:?}: {pale} outline pixels, {stray} other changed");
-        assert!(pale >= 20, "{view:?}: only {pale} outline pixels");
-        assert!(stray * 4 < pale, "{view:?}: {stray} stray pixels");
-    }
-}
-
 /// Issue 39, finding 4: the follow camera drew the columns' two-cell mode (centimetre crests on
 /// 2 cm columns) as spikes beside the stone. The water is drawn through a 1-2-1 filter whose
 /// slopes are the Sobel operator's, which cancel a checkerboard exactly: a lake of ±1 cm

@@ -7,8 +7,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use arbitrary::{Result, Unstructured};
 use stoneskip::sim::params::{
-    AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Limiter, NearField, Precision, Preset,
-    PressureCentre, PressureSign, Quadrature, Rotation, Shape, SpectralParams, Swell,
+    AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Limiter, Precision, Preset,
+    PressureCentre, PressureSign, Quadrature, Rotation, Shape, Swell,
 };
 use stoneskip::sim::Simulation;
 
@@ -163,21 +163,16 @@ fn options(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
     Ok(())
 }
 
-/// The spectral near field (session 15), drawn after everything else for the same reason. Patches of
-/// 16–128 cells (the FFT's cost per tick grows as n² log n; 1024 would make the short runs slow
-/// without reaching other code). Only without a swell, which the validator refuses with it.
+/// The retired spectral near field's bytes (session 15): still read, so a stored input means what
+/// it did; the run stays on the columns.
 fn near_field(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
-    let w = &mut p.water;
-    if w.swell.is_some() || !u.arbitrary::<bool>()? {
+    if p.water.swell.is_some() || !u.arbitrary::<bool>()? {
         return Ok(());
     }
-    w.near_field = NearField::Spectral;
-    w.spectral = SpectralParams {
-        cells: pick(u, &[16, 32, 64, 128])?,
-        cell: log_num(u, 0.001, 0.5)?,
-        surface_tension: num(u, 0.0, 1.0)?,
-        viscosity: num(u, 0.0, 0.01)?,
-    };
+    pick(u, &[16, 32, 64, 128])?;
+    log_num(u, 0.001, 0.5)?;
+    num(u, 0.0, 1.0)?;
+    num(u, 0.0, 0.01)?;
     Ok(())
 }
 

@@ -118,55 +118,18 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
         }
     }
     if p.water.enabled && p.water.wavy_contact {
-        // docs/studies/fidelity §11: coupled once a tick, the stone runs up to a tick ahead of
-        // its own wave; on the deep-water patch the distances settle below 0.625 ms, on the
-        // columns they move with the tick at every tick the study ran.
-        if p.water.near_field == crate::sim::params::NearField::Spectral {
-            // §10: the throws on deep water end in planing glides, as on flat water.
-            let s = p.water.spectral;
-            let (tick, todo) = if p.physics.dt > SETTLED_TICK {
-                (
-                    format!(
-                        ", and at a {ms:.2} ms time step the stone outruns its own wave, so \
-                         distances are not settled"
-                    ),
-                    format!(
-                        "Lower the time step below {} ms for settled distances, or turn off \
-                         Wavy contact in Water for the converged model the presets use.",
-                        SETTLED_TICK * 1e3
-                    ),
-                )
-            } else {
-                (
-                    String::new(),
-                    "Turn off Wavy contact in Water for the converged model the presets use."
-                        .to_owned(),
-                )
-            };
-            w.push(format!(
-                "The deep-water near field is on ({} × {} cells of {:.1} mm): throws end in a \
-                 long glide along the surface (planing), as on flat water{tick}. {todo}",
-                s.cells,
-                s.cells,
-                s.cell * 1e3
-            ));
-        } else {
-            // §9: from 5 cm to 7 mm columns the near field has not converged (planing glides
-            // come back below 1.4 cm), and it changes with the rest depth.
-            w.push(format!(
-                "Wavy contact is on ({:.1} cm cells, {ms:.2} ms time step): the result changes \
-                 with the water's cell size, its depth and the time step, so trust trends, not \
-                 exact skip counts. Turn it off in Water for a converged throw.",
-                p.water.cell * 100.0
-            ));
-        }
+        // docs/studies/fidelity §9 and §11: from 5 cm to 7 mm columns the near field has not
+        // converged (planing glides come back below 1.4 cm), it changes with the rest depth, and
+        // coupled once a tick the stone runs up to a tick ahead of its own wave.
+        w.push(format!(
+            "Wavy contact is on ({:.1} cm cells, {ms:.2} ms time step): the result changes \
+             with the water's cell size, its depth and the time step, so trust trends, not \
+             exact skip counts. Turn it off in Water for a converged throw.",
+            p.water.cell * 100.0
+        ));
     }
     w
 }
-
-/// The coupling tick (s) below which the fidelity study's distances on the deep-water near field
-/// settle (docs/studies/fidelity §11).
-const SETTLED_TICK: f64 = 0.000625;
 
 /// The stone's volume from its shape (m³), when the shape has a closed form.
 fn stone_volume(p: &Preset) -> Option<f64> {
@@ -1465,26 +1428,8 @@ mod tests {
         let w = &setup_warnings(&wavy)[0];
         assert!(w.contains("trust trends, not exact skip counts"), "{w}");
         assert!(w.contains("5.00 ms time step"), "{w}");
-        // The deep-water near field: its glides, and the tick while it is coarser than the one
-        // where the study's distances settle (fidelity §11).
-        let mut deep = wavy.clone();
-        deep.water.near_field = crate::sim::params::NearField::Spectral;
-        deep.physics.dt = 0.005;
-        let w = &setup_warnings(&deep)[0];
-        assert!(
-            w.contains("long glide along the surface")
-                && w.contains("5.00 ms time step")
-                && w.contains("outruns"),
-            "{w}"
-        );
-        deep.physics.dt = SETTLED_TICK;
-        let w = &setup_warnings(&deep)[0];
-        assert!(
-            w.contains("long glide along the surface") && !w.contains("outruns"),
-            "{w}"
-        );
         // No warning cites a study section the app cannot open.
-        for p in [&fast, &light, &wavy, &deep] {
+        for p in [&fast, &light, &wavy] {
             for w in setup_warnings(p) {
                 assert!(!w.contains('§') && !w.contains("study"), "{w}");
             }

@@ -14,7 +14,6 @@ use super::scene::{
 use crate::sim::launch_arc;
 use crate::sim::params::Preset;
 use crate::sim::stone::Stone;
-use crate::sim::water::{SpectralField, WaterGrid};
 use crate::sim::{ContactEvent, Simulation, StepSample};
 
 /// The scene of `sim` now. `pose` overrides the stone's pose (the app's interpolation between
@@ -45,7 +44,7 @@ pub fn scene_of<'a>(
         })
     });
     let t = sim.time();
-    let mut lines = sim
+    let lines = sim
         .water()
         .map(|w| {
             let (o, c) = (w.origin(), w.cell());
@@ -53,9 +52,6 @@ pub fn scene_of<'a>(
             lake_rim(o, hi)
         })
         .unwrap_or_default();
-    if let Some(n) = sim.near_field() {
-        lines.extend(near_field_outline(n));
-    }
     Scene {
         camera,
         time: t,
@@ -214,8 +210,8 @@ static NEXT_REVISION: AtomicU64 = AtomicU64::new(1);
 pub struct WaterHeights {
     data: Vec<f32>,
     revision: u64,
-    /// (generation, the grid's steps, the near field's steps) of the copy.
-    seen: Option<(u64, u64, u64)>,
+    /// (generation, the grid's steps) of the copy.
+    seen: Option<(u64, u64)>,
 }
 
 impl WaterHeights {
@@ -223,25 +219,19 @@ impl WaterHeights {
         Self::default()
     }
 
-    /// Copies η from `sim` if the grid (or the near field) stepped since the last call; where the
-    /// stone rides on a spectral near field, its surface is drawn there ([`overlay_near_field`]).
-    /// `generation` must change when the simulation is rebuilt (a new grid). Returns whether a
-    /// copy happened.
+    /// Copies η from `sim` if the grid stepped since the last call. `generation` must change when
+    /// the simulation is rebuilt (a new grid). Returns whether a copy happened.
     pub fn refresh(&mut self, sim: &Simulation, generation: u64) -> bool {
         let Some(w) = sim.water() else {
             self.data.clear();
             self.seen = None;
             return false;
         };
-        let near = sim.near_field();
-        let key = (generation, w.steps(), near.map_or(0, SpectralField::steps));
+        let key = (generation, w.steps());
         if self.seen == Some(key) {
             return false;
         }
         w.eta_f32(&mut self.data);
-        if let Some(n) = near {
-            overlay_near_field(&mut self.data, w, n);
-        }
         self.seen = Some(key);
         // Unique across every WaterHeights of the process, so a renderer never mistakes one for another.
         self.revision = NEXT_REVISION.fetch_add(1, Ordering::Relaxed);
@@ -252,47 +242,6 @@ impl WaterHeights {
         &self.data
     }
 }
-
-/// Draws the spectral near field over the lake's heights `data` (row-major, the grid's cell
-/// centres): inside the patch the surface the stone rides on, blended into the lake's own across
-/// the patch's sponge band (its outer eighth, where the patch's waves are absorbed), so there is no
-/// seam. The lake's columns take the same loads, so outside the patch their rings go on.
-pub fn overlay_near_field(data: &mut [f32], grid: &WaterGrid, near: &SpectralField) {
-    let (nx, ny) = (grid.nx(), grid.ny());
-    if data.len() != nx * ny {
-        return;
-    }
-    let (o, l) = (grid.origin(), grid.cell());
-    let (po, side) = (near.origin(), near.side());
-    let band = side / 8.0;
-    let cells = |lo: f64, origin: f64, count: usize| {
-        let first = ((lo - origin) / l - 0.5).ceil().max(0.0) as usize;
-        let last = (((lo + side - origin) / l - 0.5).floor().max(-1.0) + 1.0) as usize;
-        first.min(count)..last.min(count)
-    };
-    for iy in cells(po[1], o[1], ny) {
-        let y = o[1] + (iy as f64 + 0.5) * l;
-        for ix in cells(po[0], o[0], nx) {
-            let x = o[0] + (ix as f64 + 0.5) * l;
-            let edge = (x - po[0])
-                .min(po[0] + side - x)
-                .min(y - po[1])
-                .min(po[1] + side - y);
-            let w = (edge / band).clamp(0.0, 1.0) as f32;
-            let h = &mut data[iy * nx + ix];
-            *h += w * (near.height(x, y) as f32 - *h);
-        }
-    }
-}
-
-/// The near field's patch as drawn: a thin pale outline on the water (in pieces, as the rim).
-pub fn near_field_outline(near: &SpectralField) -> Vec<Line> {
-    let (o, s) = (near.origin(), near.side());
-    rectangle(o, [o[0] + s, o[1] + s], 1.5, NEAR_FIELD_COLOR).collect()
-}
-
-/// The colour of the near field's outline: a pale ice blue, lighter than the water.
-pub const NEAR_FIELD_COLOR: [f32; 4] = [0.75, 0.92, 1.0, 0.8];
 
 /// What the views frame for `sim` with `trail` (see [`Framing`]).
 pub fn framing_of(sim: &Simulation, trail: &Trail, pose: Option<(DVec3, DQuat)>) -> Framing {
@@ -531,71 +480,5 @@ mod tests {
         assert_eq!(splashes_of(&[c], c.t_start + 0.1).len(), 1);
         assert!(splashes_of(&[c], c.t_start + SPLASH_DURATION + 0.01).is_empty());
         assert_eq!(markers_of(&[c]).len(), 1);
-    }
-
-    /// The drawn surface is the near field's inside its patch, the lake's outside it, blended
-    /// across the sponge band; the copy is refreshed when the near field steps.
-    #[test]
-    fn the_near_field_is_drawn_over_the_lake_inside_its_patch() {
-        let mut p = crate::sim::params::Preset::version_1();
-        p.water.enabled = true;
-        p.water.wavy_contact = true;
-        p.water.swell = None;
-        p.water.cell = 0.02;
-        p.water.size = [8.0, 4.0];
-        p.water.origin = Some([-2.0, -2.0]);
-        p.water.near_field = crate::sim::params::NearField::Spectral;
-        let mut sim = Simulation::new(&p).unwrap();
-        while sim.contacts().is_empty() && sim.time() < 2.0 {
-            sim.tick();
-        }
-        for _ in 0..5 {
-            sim.tick();
-        }
-        let mut heights = WaterHeights::new();
-        assert!(heights.refresh(&sim, 1));
-        assert!(!heights.refresh(&sim, 1), "nothing stepped, no copy");
-        let (w, n) = (sim.water().unwrap(), sim.near_field().unwrap());
-        assert!(n.max_abs_eta() > 1e-6, "the contact moved the patch");
-        let mut lake = Vec::new();
-        w.eta_f32(&mut lake);
-        let (o, l, nx) = (w.origin(), w.cell(), w.nx());
-        let (po, side) = (n.origin(), n.side());
-        let (mut inner, mut outer) = (0, 0);
-        for (k, (&drawn, &own)) in heights.data().iter().zip(&lake).enumerate() {
-            let (x, y) = (
-                o[0] + ((k % nx) as f64 + 0.5) * l,
-                o[1] + ((k / nx) as f64 + 0.5) * l,
-            );
-            let edge = (x - po[0])
-                .min(po[0] + side - x)
-                .min(y - po[1])
-                .min(po[1] + side - y);
-            if edge >= side / 8.0 {
-                inner += 1;
-                assert!(
-                    (f64::from(drawn) - n.height(x, y)).abs() <= 1e-7 + 1e-6 * n.height(x, y).abs()
-                );
-            } else if edge < 0.0 {
-                outer += 1;
-                assert_eq!(drawn, own);
-            } else {
-                let (a, b) = (
-                    own.min(n.height(x, y) as f32),
-                    own.max(n.height(x, y) as f32),
-                );
-                assert!(drawn >= a - 1e-7 && drawn <= b + 1e-7);
-            }
-        }
-        assert!(
-            inner > 1000 && outer > 1000,
-            "{inner} inside, {outer} outside"
-        );
-        // The outline: the patch's four sides.
-        let lines = near_field_outline(n);
-        let perimeter: f32 = lines.iter().map(|ln| ln.a.distance(ln.b)).sum();
-        assert!((f64::from(perimeter) - 4.0 * side).abs() < 1e-4 * side);
-        sim.tick();
-        assert!(heights.refresh(&sim, 1));
     }
 }

@@ -181,16 +181,6 @@ const MODEL: &[(&str, &str, &str)] = &[
         "the paper (future work); docs/studies/fidelity §9–§11",
     ),
     (
-        "Deep-water near field",
-        "Optional (water.near_field: Spectral, the Water panel): the stone rides on a square patch \
-         of deep water that follows it (drawn with a pale outline), linear potential flow with the \
-         capillary–gravity dispersion ω² = (gk + σk³/ρ) tanh(kH), each Fourier mode stepped \
-         exactly. Deep water gives way about kH times less than the columns, and the throws end \
-         in planing glides as on flat water (shorter once the tick is well under the time the \
-         stone takes to cross its own length).",
-        "Lamb 1932 §§229, 267, 348; docs/studies/fidelity §10–§11",
-    ),
-    (
         "Buoyancy",
         "Hydrostatic pressure ρ g d on each loaded face, d the depth of its wetted centroid: \
          Archimedes' force, exact on planar faces.",

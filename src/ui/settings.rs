@@ -6,8 +6,8 @@ use egui::{Slider, SliderClamping, Ui};
 
 use crate::sim::params::{
     AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, LagLength, Launch, Limiter,
-    MemoryParams, NearField, Physics, Precision, PressureSign, Quadrature, Rotation, Shape,
-    StoneParams, Swell, WaterParams, MAX_WATER_COLUMNS,
+    MemoryParams, Physics, Precision, PressureSign, Quadrature, Rotation, Shape, StoneParams,
+    Swell, WaterParams, MAX_WATER_COLUMNS,
 };
 
 use super::ViewSettings;
@@ -994,7 +994,6 @@ pub fn water_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
         c
     });
     changed |= swell_ui(ui, water, marks);
-    changed |= near_field_ui(ui, water, marks);
     changed
 }
 
@@ -1045,112 +1044,6 @@ fn max_step_row(ui: &mut Ui, marks: &Marks, max_step: &mut Option<f64>) -> bool 
     changed
 }
 
-/// The surface the stone rides on with wavy contact: the columns, or a spectral patch of
-/// deep-water potential flow that follows the stone (`sim::water::spectral`; fidelity study §10).
-/// A swell and the spectral near field exclude each other (the validator's rule): choosing one
-/// turns the other off.
-fn near_field_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
-    let mut changed = false;
-    let mut spectral = water.near_field == NearField::Spectral;
-    ui.horizontal(|ui| {
-        let tip = "The stone rides on a patch of deep water that follows it (linear potential \
-                   flow with capillary–gravity waves, Lamb 1932) instead of the columns, which \
-                   are shallow water at every wavelength. Needs wavy contact; the lake's columns \
-                   still draw the rings beyond the patch. No swell with it.";
-        if ui
-            .add_enabled(
-                water.wavy_contact,
-                egui::Checkbox::new(&mut spectral, "Deep-water near field"),
-            )
-            .on_hover_text(tip)
-            .on_disabled_hover_text("Only with wavy contact")
-            .changed()
-        {
-            water.near_field = if spectral {
-                water.swell = None;
-                NearField::Spectral
-            } else {
-                NearField::Columns
-            };
-            changed = true;
-        }
-        dot_ui(ui, marks, "near field");
-    });
-    if !spectral {
-        return changed;
-    }
-    let sp = &mut water.spectral;
-    changed |= grid(ui, "near field", |ui| {
-        let mut c = false;
-        let label = labelled_row_ui(
-            ui,
-            marks,
-            &["spectral.cells"],
-            "Patch cells",
-            "Cells along each side (a power of two): the FFT's cost grows as n² log n",
-        )
-        .1;
-        let before = sp.cells;
-        egui::ComboBox::from_id_salt("spectral cells")
-            .selected_text(sp.cells.to_string())
-            .show_ui(ui, |ui| {
-                for n in [16, 32, 64, 128, 256, 512, 1024] {
-                    ui.selectable_value(&mut sp.cells, n, n.to_string());
-                }
-            })
-            .response
-            .labelled_by(label);
-        ui.end_row();
-        c |= before != sp.cells;
-        c |= row(
-            ui,
-            marks,
-            "spectral.cell",
-            "Patch cell",
-            "The patch's resolution; its side is cells × cell",
-            |ui| {
-                ui.add(
-                    slider(&mut sp.cell, 0.001..=0.5)
-                        .logarithmic(true)
-                        .suffix(" m"),
-                )
-            },
-        );
-        c |= row(
-            ui,
-            marks,
-            "spectral.surface tension",
-            "Surface tension",
-            "σ: capillary waves (clean water 0.0728 N/m)",
-            |ui| {
-                ui.add(
-                    slider(&mut sp.surface_tension, 0.0..=1.0)
-                        .logarithmic(true)
-                        .smallest_positive(1e-4)
-                        .suffix(" N/m"),
-                )
-            },
-        );
-        c |= row(
-            ui,
-            marks,
-            "spectral.viscosity",
-            "Viscosity",
-            "ν: waves decay as e^(−2νk²t) (water 1e-6 m²/s)",
-            |ui| {
-                ui.add(
-                    slider(&mut sp.viscosity, 0.0..=0.01)
-                        .logarithmic(true)
-                        .smallest_positive(1e-8)
-                        .suffix(" m²/s"),
-                )
-            },
-        );
-        c
-    });
-    changed
-}
-
 /// The swell: on or off, and its amplitude (at most half the depth), wavelength and direction.
 fn swell_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
     let mut changed = false;
@@ -1158,10 +1051,6 @@ fn swell_ui(ui: &mut Ui, water: &mut WaterParams, marks: &Marks) -> bool {
     ui.horizontal(|ui| {
         if ui.checkbox(&mut swell, "Swell (a wavy lake)").changed() {
             water.swell = swell.then(Swell::default);
-            if swell {
-                // The near field holds only the stone's own waves (the validator's rule).
-                water.near_field = NearField::Columns;
-            }
             changed = true;
         }
         dot_ui(ui, marks, "swell");
@@ -1482,7 +1371,7 @@ mod tests {
     }
 
     use crate::app::edits::{launch_differences, section_differences, Difference};
-    use crate::sim::params::{Preset, SpectralParams};
+    use crate::sim::params::Preset;
 
     fn marks_of(d: &[Difference]) -> Marks {
         Marks::new(d.iter().map(|d| (d.field.as_str(), d.preset.as_str())))
@@ -1662,53 +1551,18 @@ mod tests {
         assert!(m2.unshown().is_empty(), "{:?}", m2.unshown());
         assert_eq!(m2.for_row(&["rotation"]).as_deref(), Some("Free"));
         assert!(m3.unshown().is_empty(), "{:?}", m3.unshown());
-        // The deep-water near field (no swell with it) and its four settings.
-        let mut w2 = p.water;
-        w2.wavy_contact = true;
-        w2.swell = None;
-        w2.near_field = NearField::Spectral;
-        w2.spectral = SpectralParams {
-            cells: 256,
-            cell: 0.005,
-            surface_tension: 0.05,
-            viscosity: 2e-6,
-        };
-        let base = WaterParams {
-            wavy_contact: true,
-            swell: None,
-            ..p.water
-        };
-        let d4 = section_differences(&base, &w2);
-        assert_eq!(d4.len(), 5, "{d4:?}");
-        let m4 = marks_of(&d4);
-        draw(|ui| {
-            water_ui(ui, &mut w2, &m4);
-        });
-        assert!(m4.unshown().is_empty(), "{:?}", m4.unshown());
-        assert_eq!(m4.for_row(&["spectral.cells"]).as_deref(), Some("128"));
-        // Drawing the panel changed nothing (a slider clamps what it shows).
-        assert_eq!(w2.spectral.cells, 256);
-        assert_eq!(w2.spectral.viscosity, 2e-6);
     }
 
-    /// Every setting the validator accepts for the near field and the water step survives being
-    /// drawn: the sliders' ranges hold the validator's, so showing a preset never changes it.
+    /// Every water step the validator accepts survives being drawn: the slider's range holds the
+    /// validator's, so showing a preset never changes it.
     #[test]
-    fn drawing_the_near_field_keeps_every_valid_setting() {
-        for (cell, sigma, nu) in [(0.001, 0.0, 0.0), (0.5, 1.0, 0.01), (0.01, 0.0728, 1e-6)] {
+    fn drawing_the_water_step_keeps_every_valid_setting() {
+        for step in [1e-5, 2e-3, 0.1] {
             let mut w = WaterParams {
                 wavy_contact: true,
-                near_field: NearField::Spectral,
+                max_step: Some(step),
                 ..WaterParams::version_1()
             };
-            w.spectral = SpectralParams {
-                cells: 16,
-                cell,
-                surface_tension: sigma,
-                viscosity: nu,
-            };
-            // The water step's row too, from its shortest to its longest.
-            w.max_step = Some(0.2 * cell);
             assert!(w.validate().is_ok());
             let before = w;
             draw(|ui| {

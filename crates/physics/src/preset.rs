@@ -512,6 +512,12 @@ mod tests {
                 "Smooth",
                 "write Resal",
             ),
+            (
+                "(\n  name: \"old\",\n  water: (\n    near_field: Spectral,\n  ),\n)",
+                "water.near_field",
+                "Spectral",
+                "write Columns",
+            ),
         ] {
             let e = parse(text, Path::new("old.ron")).unwrap_err().to_string();
             assert!(e.starts_with("old.ron:4:"), "{e}");
@@ -519,6 +525,28 @@ mod tests {
             assert!(e.contains(instead), "{e}");
             assert!(e.contains("docs/studies/retired.md"), "{e}");
         }
+    }
+
+    /// A preset saved before the retirements still loads: it names `pressure_centre: Faces`,
+    /// `near_field: Columns` and the spectral patch's settings, which are read and ignored (and
+    /// not written again).
+    #[test]
+    fn a_preset_saved_before_the_retirements_still_loads() {
+        let text = "(\n  version: 1,\n  physics: (pressure_centre: Faces, axial_spin: Resal),\n  \
+                    water: (near_field: Columns, spectral: (cells: 128, cell: 0.01, \
+                    surface_tension: 0.0728, viscosity: 1e-6)),\n)";
+        let p = parse(text, Path::new("saved.ron")).unwrap();
+        assert_eq!(
+            p,
+            Preset {
+                physics: Physics {
+                    axial_spin: crate::sim::params::AxialSpin::Resal,
+                    ..Physics::version_1()
+                },
+                ..Preset::version_1()
+            }
+        );
+        assert!(!to_ron_string(&p).unwrap().contains("spectral"));
     }
 
     /// The page a retired value's message points to exists and keeps that value's results.
@@ -532,6 +560,7 @@ mod tests {
         for heading in [
             "## `physics.axial_spin: Smooth`",
             "## `physics.pressure_centre: Planing(f)`",
+            "## `water.near_field: Spectral`",
         ] {
             assert!(page.contains(heading), "{heading}");
         }

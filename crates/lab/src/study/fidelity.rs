@@ -26,7 +26,6 @@ use super::fidelity_accel::{self, AccelStudy};
 use super::fidelity_air::{self, AirStudy};
 use super::fidelity_grid::{self, GridStudy};
 use super::fidelity_limit::{self, LimitStudy, Quoted};
-use super::fidelity_spectral::{self, SpectralStudy};
 use super::fidelity_tick::{self, TickStudy};
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
@@ -707,7 +706,6 @@ pub struct Fidelity {
     pub air: AirStudy,
     pub limit: LimitStudy,
     pub grid: GridStudy,
-    pub spectral: SpectralStudy,
     pub tick: TickStudy,
     pub accel: AccelStudy,
 }
@@ -745,7 +743,6 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let air = fidelity_air::compute(ctx, &presets)?;
     let limit = fidelity_limit::compute(ctx, &spin, &air.sweep_off)?;
     let grid = fidelity_grid::compute(ctx)?;
-    let spectral = fidelity_spectral::compute(ctx)?;
     let tick = fidelity_tick::compute(ctx)?;
     let accel = fidelity_accel::compute(ctx)?;
     Ok(Fidelity {
@@ -766,7 +763,6 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
         air,
         limit,
         grid,
-        spectral,
         tick,
         accel,
     })
@@ -989,7 +985,6 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
     fidelity_air::write_csvs(ctx, &f.air)?;
     fidelity_limit::write_csvs(ctx, &f.limit)?;
     fidelity_grid::write_csvs(ctx, &f.grid)?;
-    fidelity_spectral::write_csvs(ctx, &f.spectral)?;
     fidelity_tick::write_csvs(ctx, &f.tick)?;
     fidelity_accel::write_csvs(ctx, &f.accel)
 }
@@ -1150,11 +1145,6 @@ fn hovercraft_rows(f: &Fidelity) -> Vec<Vec<String>> {
         "…and on finer columns, where the near field should converge (§9)".into(),
         "—".into(),
         fidelity_grid::lead_words(&f.grid),
-    ]);
-    rows.push(vec![
-        "…and on a deep-water near field (§10)".into(),
-        "—".into(),
-        fidelity_spectral::lead_words(&f.spectral),
     ]);
     rows.push(vec![
         "…and as the stone–water coupling tick shrinks (§11)".into(),
@@ -1320,11 +1310,18 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&fidelity_air::section(&f.air, &f.spin));
     s.push_str(&fidelity_limit::section(&f.limit, &quoted(f)));
     s.push_str(&fidelity_grid::section(&f.grid));
-    s.push_str(&fidelity_spectral::section(&f.spectral, &f.grid));
-    s.push_str(&fidelity_tick::section(&f.tick, &f.spectral));
+    s.push_str(RETIRED_SECTION_10);
+    s.push_str(&fidelity_tick::section(&f.tick));
     s.push_str(&fidelity_accel::section(&f.accel));
     s
 }
+
+/// §10 ran the shipped throws on the spectral near field, since retired; the numbering stays.
+const RETIRED_SECTION_10: &str = "\n## 10. A deep-water near field (retired)\n\nThis section ran \
+     the shipped throws on the spectral near field (`water.near_field: Spectral`, linear potential \
+     flow with the capillary–gravity dispersion relation on a patch that followed the stone). The \
+     stone now reads only the ambient water (the wetted-extent memory, issue 38), the option is \
+     retired, and its tables are kept in docs/studies/retired.md with the tag that still runs it.\n";
 
 /// The numbers of §2 that §8's explanation quotes.
 fn quoted(f: &Fidelity) -> Quoted {

@@ -198,7 +198,7 @@ fn cases(quick: bool) -> Vec<(&'static str, f64, f64)> {
 pub(super) fn grid_run(p: &Preset, dz: f64) -> Result<GridRun, StudyError> {
     check_cancel()?;
     let mut sim = Simulation::new(p)?;
-    // The lake is not stepped when nothing reads it (the spectral near field of §10).
+    // The lake is not stepped when nothing reads it (wavy contact off).
     sim.skip_unread_water();
     let body: Vec<DVec3> = sim.stone().mesh.positions.clone();
     let mut crest = f64::NEG_INFINITY;
@@ -677,8 +677,8 @@ fn dispersion_words(g: &GridStudy) -> String {
     );
     const DEEP: &str = "Water whose short waves are deep-water waves (a dispersive height \
          field, e.g. Tessendorf's iWave 2004, or a potential-flow patch that moves with the stone, \
-         as issue 11 suggests) is what a converged near field needs; §10 runs one. Reported, not \
-         tuned.\n";
+         as issue 11 suggests) is what a converged near field needs; §10 ran one (retired since: \
+         docs/studies/retired.md). Reported, not tuned.\n";
     match verdict(g) {
         Verdict::Untested => s.push_str("Finer columns are run by the full study only.\n"),
         Verdict::Holds => s.push_str(
@@ -889,7 +889,7 @@ mod tests {
             "{words}"
         );
         assert!(words.contains("on finer cells 1 of 2 do"), "{words}");
-        assert!(words.contains("§10 runs one"), "{words}");
+        assert!(words.contains("§10 ran one"), "{words}");
         // Without finer cells (the quick run) the words claim none.
         g.cases.retain(|c| c.cell >= SHIPPED.0);
         assert_eq!(

@@ -2,13 +2,13 @@
 //! refined the near field in space at the shipped tick of 5 ms. In time the stone and the water
 //! are coupled once a tick (`Simulation::finish_tick`): within a tick the stone reads the surface
 //! the last tick left, and its face impulses move the water only at the tick's end (the columns
-//! then take whole steps of their own Courant clock, the spectral patch one exact step of the
-//! tick). So the stone runs up to a tick ahead of its own wave, and a stone of diameter D at speed
-//! U crosses its own length in D/U (8 ms for the default's 10 cm at 12 m/s), not long against
-//! 5 ms. This section throws the shipped throws on the shipped 2 cm columns (§9's lakes) and on
-//! the 1 cm spectral patch (§10's) at ticks from 5 ms down to 0.3125 ms, from the §2 ensemble's
-//! launch heights, and reads the distance and the "no hovercraft" rule off every run. Compute, then
-//! results, then the report.
+//! then take whole steps of their own Courant clock). So the stone runs up to a tick ahead of its
+//! own wave, and a stone of diameter D at speed U crosses its own length in D/U (8 ms for the
+//! default's 10 cm at 12 m/s), not long against 5 ms. This section throws the shipped throws on
+//! the shipped 2 cm columns (§9's lakes) at ticks from 5 ms down to 0.3125 ms, from the §2
+//! ensemble's launch heights, and reads the distance and the "no hovercraft" rule off every run.
+//! (The 1 cm spectral patch of §10 ran here too until it was retired; its rows are in
+//! docs/studies/retired.md.) Compute, then results, then the report.
 
 use crate::sim::params::Preset;
 use crate::sim::Outcome;
@@ -17,7 +17,6 @@ use super::fidelity::{ensemble_offsets, shipped_for, QUICK_CELL};
 use super::fidelity_grid::{
     and_list, distinct, ensemble_row, glides, median_distance, run_cases, GridRun,
 };
-use super::fidelity_spectral::{Near, SpectralStudy};
 use super::table::{md_table, sig, Csv};
 use super::{Ctx, StudyError};
 
@@ -28,8 +27,6 @@ pub enum Surface {
     /// wider; `refined`: their own water step at most the tick (`water.max_step`), so that the
     /// water, not only the stone, is refined in time.
     Columns { cell: f64, refined: bool },
-    /// The spectral patch: cells along a side and the cell (m), on §10's lake.
-    Spectral { cells: u32, cell: f64 },
 }
 
 impl Surface {
@@ -44,11 +41,6 @@ impl Surface {
                     ""
                 }
             ),
-            Surface::Spectral { cells, cell } => format!(
-                "spectral {} cm, {} m",
-                sig(100.0 * cell, 2),
-                sig(*cells as f64 * cell, 3)
-            ),
         }
     }
 
@@ -56,7 +48,6 @@ impl Surface {
         match self {
             Surface::Columns { refined: false, .. } => "columns",
             Surface::Columns { refined: true, .. } => "columns (water step ≤ tick)",
-            Surface::Spectral { .. } => "spectral",
         }
     }
 }
@@ -80,10 +71,6 @@ pub struct TickStudy {
 /// The ticks (s): the shipped 5 ms, then halved four times.
 const TICKS: [f64; 5] = [0.005, 0.0025, 0.00125, 0.000625, 0.0003125];
 
-/// Within this fraction of flat water's median distance a spectral series counts as close to flat
-/// (as in §10).
-const NEAR_FLAT: f64 = 0.1;
-
 /// Two successive ticks whose median distances differ by less than this fraction count as
 /// converged in the tick.
 const CONVERGED: f64 = 0.05;
@@ -93,11 +80,6 @@ const EXTRA_LENGTH: f64 = 20.0;
 /// The columns' lakes' width (m; §9's are 6 m).
 const COLUMNS_WIDTH: f64 = 12.0;
 
-/// The spectral patch of the full study: §10's middle one (1 cm cells, 1.28 m).
-const PATCH: (u32, f64) = (128, 0.01);
-/// The quick study's patch: §10's quick one (2 cm cells, 1.28 m).
-const QUICK_PATCH: (u32, f64) = (64, 0.02);
-
 /// (throw, surface, tick) of every case.
 fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
     let stems: &[&'static str] = if quick {
@@ -106,7 +88,6 @@ fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
         &["default", "magic_angle", "record_throw"]
     };
     let ticks: &[f64] = if quick { &[TICKS[0], TICKS[2]] } else { &TICKS };
-    let (cells, cell) = if quick { QUICK_PATCH } else { PATCH };
     let column = if quick { QUICK_CELL } else { 0.02 };
     let surfaces = [
         Surface::Columns {
@@ -117,7 +98,6 @@ fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
             cell: column,
             refined: true,
         },
-        Surface::Spectral { cells, cell },
     ];
     let mut out = Vec::new();
     for &stem in stems {
@@ -128,26 +108,19 @@ fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
     out
 }
 
-/// The shipped throw `stem` on `surface` at tick `dt`: at 5 ms §10's spectral run, and §9's
-/// shipped-column run on a lake [`EXTRA_LENGTH`] longer.
+/// The shipped throw `stem` on `surface` at tick `dt`: §9's shipped-column run on a lake
+/// [`EXTRA_LENGTH`] longer.
 fn preset(stem: &str, surface: Surface, dt: f64, quick: bool) -> Result<Preset, StudyError> {
-    let mut p = match surface {
-        Surface::Columns { refined, .. } => {
-            let mut p = shipped_for(stem, quick)?;
-            let (size, _) = super::fidelity_grid::lake(stem);
-            // §9's lake, longer and wider: at finer ticks the record throw reached §9's far end,
-            // and with the water step refined a throw can curve out of its sides.
-            p.water.size = [size[0] + EXTRA_LENGTH, COLUMNS_WIDTH];
-            p.water.origin = Some([-2.0, -0.5 * COLUMNS_WIDTH]);
-            if refined {
-                p.water.max_step = Some(dt);
-            }
-            p
-        }
-        Surface::Spectral { cells, cell } => {
-            super::fidelity_spectral::preset(stem, Near::Spectral { cells, cell }, quick)?
-        }
-    };
+    let Surface::Columns { refined, .. } = surface;
+    let mut p = shipped_for(stem, quick)?;
+    let (size, _) = super::fidelity_grid::lake(stem);
+    // §9's lake, longer and wider: at finer ticks the record throw reached §9's far end, and with
+    // the water step refined a throw can curve out of its sides.
+    p.water.size = [size[0] + EXTRA_LENGTH, COLUMNS_WIDTH];
+    p.water.origin = Some([-2.0, -0.5 * COLUMNS_WIDTH]);
+    if refined {
+        p.water.max_step = Some(dt);
+    }
     p.physics.dt = dt;
     Ok(p)
 }
@@ -184,9 +157,7 @@ pub fn write_csvs(ctx: &Ctx, s: &TickStudy) -> Result<(), StudyError> {
         "glide",
     ]);
     for case in &s.cases {
-        let cell = match case.surface {
-            Surface::Columns { cell, .. } | Surface::Spectral { cell, .. } => cell,
-        };
+        let Surface::Columns { cell, .. } = case.surface;
         for r in &case.runs {
             c.push(vec![
                 case.stem.into(),
@@ -295,17 +266,8 @@ fn case_rows(s: &TickStudy) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// Flat water's median distance for `stem` in §10, if it ran.
-fn flat_distance(spectral: &SpectralStudy, stem: &str) -> Option<f64> {
-    spectral
-        .cases
-        .iter()
-        .find(|c| c.stem == stem && c.near == Near::Flat)
-        .and_then(|c| median_distance(&c.runs))
-}
-
 /// What the table says, in words.
-fn findings(s: &TickStudy, spectral: &SpectralStudy) -> String {
+fn findings(s: &TickStudy) -> String {
     let mut w = String::from("\n");
     for (stem, surface) in series(s) {
         let cases = of(s, stem, surface);
@@ -336,19 +298,9 @@ fn findings(s: &TickStudy, spectral: &SpectralStudy) -> String {
                 None => "one tick only".into(),
             }
         ));
-        if let (Surface::Spectral { .. }, Some(flat), Some(&fine)) =
-            (surface, flat_distance(spectral, stem), d.last())
-        {
-            w.push_str(&format!(
-                " Flat water (§10): {} m, so the finest tick is {:.0} % off it.",
-                sig(flat, 3),
-                100.0 * (fine - flat).abs() / flat
-            ));
-        }
         w.push('\n');
     }
     w.push_str(&verdicts(s));
-    w.push_str(&flat_gaps(s, spectral));
     w
 }
 
@@ -383,56 +335,19 @@ fn verdicts(s: &TickStudy) -> String {
     )
 }
 
-/// The spectral series whose finest-tick distance is more than [`NEAR_FLAT`] from flat water's
-/// while the shipped tick's was within it: §10's closeness to flat water that was the tick's.
-fn flat_gaps(s: &TickStudy, spectral: &SpectralStudy) -> String {
-    let gap = |d: f64, flat: f64| (d - flat).abs() / flat;
-    let mut out = String::new();
-    for (stem, surface) in series(s) {
-        if !matches!(surface, Surface::Spectral { .. }) {
-            continue;
-        }
-        let cases = of(s, stem, surface);
-        let (d, _) = trend(&cases);
-        if let (Some(&coarse), Some(&fine), Some(flat), Some(finest)) = (
-            d.first(),
-            d.last(),
-            flat_distance(spectral, stem),
-            cases.last(),
-        ) {
-            if gap(fine, flat) > NEAR_FLAT && gap(coarse, flat) <= 2.0 * NEAR_FLAT {
-                out.push_str(&format!(
-                    "- {stem}: on the spectral patch at {} ms it went {} m against flat water's {} \
-                     m (§10); at the finest tick {} m. The deep-water near field shortens this \
-                     throw by {:.0} % once the stone no longer runs ahead of its own wave; at that \
-                     tick {} of {} runs still break the rule.\n",
-                    ms(tick_range(s).0),
-                    sig(coarse, 3),
-                    sig(flat, 3),
-                    sig(fine, 3),
-                    100.0 * gap(fine, flat),
-                    glides(&finest.runs),
-                    finest.runs.len()
-                ));
-            }
-        }
-    }
-    out
-}
-
 /// §11 of the report.
-pub fn section(s: &TickStudy, spectral: &SpectralStudy) -> String {
+pub fn section(s: &TickStudy) -> String {
     let throws = distinct(s.cases.iter().map(|c| c.stem));
     let mut out = format!(
         "\n## 11. The coupling tick\n\nThe stone and the water are coupled once a tick: within a \
          tick the stone reads the surface the last tick left, and its impulses move the water at \
          the tick's end, so the stone runs up to a tick ahead of its own wave (the default crosses \
-         its own 10 cm in 8 ms). §9 and §10 ran at the shipped 5 ms. Here the {} throw{} on the \
-         shipped columns (§9's lakes, {} m longer and {} m wide), as shipped (their own water \
-         step stays at 70 % of the Courant limit, 7.1 ms at 2 cm) and with that step at most the \
-         tick (`water.max_step`), and on the spectral patch (§10's lakes) at ticks from {} ms \
-         down to {} ms, from §2's launch heights; at 5 ms the spectral runs are §10's. The rule as \
-         in §9.\n\n",
+         its own 10 cm in 8 ms). §9 ran at the shipped 5 ms. Here the {} throw{} on the shipped \
+         columns (§9's lakes, {} m longer and {} m wide), as shipped (their own water step stays \
+         at 70 % of the Courant limit, 7.1 ms at 2 cm) and with that step at most the tick \
+         (`water.max_step`), at ticks from {} ms down to {} ms, from §2's launch heights. The \
+         rule as in §9. (The spectral patch ran here too until it was retired: \
+         docs/studies/retired.md.)\n\n",
         and_list(&throws),
         if throws.len() > 1 { "s" } else { "" },
         EXTRA_LENGTH,
@@ -452,7 +367,7 @@ pub fn section(s: &TickStudy, spectral: &SpectralStudy) -> String {
         ],
         &case_rows(s),
     ));
-    out.push_str(&findings(s, spectral));
+    out.push_str(&findings(s));
     out
 }
 
@@ -519,7 +434,7 @@ mod tests {
 
     #[test]
     fn quick_runs_two_ticks_on_each_surface() {
-        assert_eq!(cases(true).len(), 6);
-        assert_eq!(cases(false).len(), 3 * 3 * TICKS.len());
+        assert_eq!(cases(true).len(), 4);
+        assert_eq!(cases(false).len(), 3 * 2 * TICKS.len());
     }
 }

@@ -16,7 +16,7 @@ pub mod fidelity_accel;
 pub mod fidelity_air;
 pub mod fidelity_grid;
 pub mod fidelity_limit;
-pub mod fidelity_spectral;
+
 pub mod fidelity_tick;
 pub mod phase;
 pub mod plot;

@@ -23,8 +23,8 @@
 //! kick, in substeps of at most [`AIR_SUBSTEP`]; second order, and exact flight when the air is off.
 
 use glam::{DQuat, DVec3};
-use serde::{Deserialize, Serialize};
 
+pub use super::params::AirParams;
 use super::params::Shape;
 
 /// Longest substep of the kick–drift–kick flight (s).
@@ -32,34 +32,6 @@ pub const AIR_SUBSTEP: f64 = 2.5e-4;
 
 /// Largest angle of attack of the linear coefficients (rad): 30°, the edge of the measured range.
 pub const ALPHA_MAX: f64 = std::f64::consts::FRAC_PI_6;
-
-/// The preset's air (`physics.air`): density and the disc's coefficients (per radian).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct AirParams {
-    /// kg/m³ (dry air at 20 °C, sea level)
-    pub density: f64,
-    /// C_Lα (1/rad)
-    pub lift_slope: f64,
-    /// C_D0
-    pub drag_zero: f64,
-    /// C_Dα (1/rad²)
-    pub drag_slope: f64,
-    /// C_Mα (1/rad), about the centre, positive nose up for α > 0.
-    pub moment_slope: f64,
-}
-
-impl Default for AirParams {
-    fn default() -> Self {
-        Self {
-            density: 1.204,
-            lift_slope: 1.91,
-            drag_zero: 0.18,
-            drag_slope: 0.69,
-            moment_slope: 0.43,
-        }
-    }
-}
 
 /// The air's model for one stone: coefficients with the stone's plan area and diameter.
 #[derive(Debug, Clone, Copy, PartialEq)]

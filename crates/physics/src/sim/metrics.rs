@@ -197,7 +197,6 @@ mod tests {
             force_evals: 0,
             contacts,
             water: None,
-            near_field: None,
             diverged_reason: None,
         }
     }

@@ -52,7 +52,7 @@ use integrate::{
 use memory::WettedMemory;
 use params::{Integrator, ParamError, Physics, Preset, Rotation, Shape};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
-use water::{EtaPatch, PatchReader, SpectralConfig, SpectralField, WaterGrid};
+use water::{EtaPatch, PatchReader, WaterGrid};
 
 /// Errors of building or driving a simulation.
 #[derive(Debug, thiserror::Error)]
@@ -167,7 +167,7 @@ pub struct WaterSummary {
     pub volume_initial: f64,
     pub volume_final: f64,
     /// Whether the water was stepped. A headless run whose results do not read the water (wavy
-    /// contact off: the stone sees the plane z = 0; or the spectral near field) leaves it at rest; see
+    /// contact off: the stone sees the plane z = 0) leaves it at rest; see
     /// [`Simulation::skip_unread_water`].
     pub stepped: bool,
 }
@@ -187,20 +187,6 @@ pub struct Summary {
     pub force_evals: u64,
     pub contacts: Vec<ContactEvent>,
     pub water: Option<WaterSummary>,
-    /// The spectral near field the stone touched (`water.near_field: Spectral`), absent otherwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub near_field: Option<NearFieldSummary>,
-}
-
-/// The spectral near field of a run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct NearFieldSummary {
-    pub cells: usize,
-    /// m
-    pub cell: f64,
-    /// N·s the stone pushed onto the patch, and N·s whose footprint lay off it (lost).
-    pub impulse_received: f64,
-    pub impulse_missed: f64,
 }
 
 /// One accepted integration step, for trajectories and plots: everything at the step's end.
@@ -322,26 +308,16 @@ enum SurfaceRef<'a> {
         max: f64,
         slope: f64,
     },
-    /// The spectral near field (`water.near_field: Spectral`).
-    Near {
-        field: &'a SpectralField,
-        max: f64,
-        slope: f64,
-    },
 }
 
 impl<'a> SurfaceRef<'a> {
     fn new(
         water: &'a Option<WaterGrid>,
         patch: &'a EtaPatch,
-        near: Option<&'a SpectralField>,
         wavy: bool,
         max: f64,
         slope: f64,
     ) -> Self {
-        if let Some(field) = near {
-            return SurfaceRef::Near { field, max, slope };
-        }
         match (water, wavy) {
             (Some(grid), true) => SurfaceRef::Water {
                 reader: PatchReader::new(grid, patch),
@@ -356,7 +332,7 @@ impl<'a> SurfaceRef<'a> {
     fn max_slope(&self) -> f64 {
         match self {
             SurfaceRef::Flat => 0.0,
-            SurfaceRef::Water { slope, .. } | SurfaceRef::Near { slope, .. } => *slope,
+            SurfaceRef::Water { slope, .. } => *slope,
         }
     }
 }
@@ -366,20 +342,18 @@ impl Surface for SurfaceRef<'_> {
         match self {
             SurfaceRef::Flat => FlatSurface.height(x, y),
             SurfaceRef::Water { reader, .. } => reader.height(x, y),
-            SurfaceRef::Near { field, .. } => field.height(x, y),
         }
     }
     fn max_height(&self) -> f64 {
         match self {
             SurfaceRef::Flat => 0.0,
-            SurfaceRef::Water { max, .. } | SurfaceRef::Near { max, .. } => *max,
+            SurfaceRef::Water { max, .. } => *max,
         }
     }
     fn max_height_over(&self, lo: [f64; 2], hi: [f64; 2]) -> f64 {
         match self {
             SurfaceRef::Flat => 0.0,
             SurfaceRef::Water { reader, max, .. } => reader.max_height_over(lo, hi).unwrap_or(*max),
-            SurfaceRef::Near { field, .. } => field.bounds_over(lo, hi).0,
         }
     }
     fn is_flat(&self) -> bool {
@@ -422,8 +396,6 @@ pub struct Simulation {
     /// The air in flight (`physics.air`), `None`: exact force-free flight.
     air: Option<Air>,
     water: Option<WaterGrid>,
-    /// The spectral near field the stone touches (`water.near_field: Spectral` with wavy contact).
-    near: Option<SpectralField>,
     water_max_eta: f64,
     /// Upper bound of the water surface's slope (wavy contact), for the flight's clearance bound.
     water_max_slope: f64,
@@ -497,9 +469,7 @@ impl Simulation {
             None
         };
         let volume_initial = water.as_ref().map_or(0.0, |w| w.volume());
-        let near = near_field(preset, [state.position.x, state.position.y]);
         let mut sim = Self {
-            near,
             hydro: HydroParams::from_physics(&preset.physics),
             air: air_model(&preset.physics, &preset.stone.shape),
             preset: preset.clone(),
@@ -614,11 +584,6 @@ impl Simulation {
     pub fn water(&self) -> Option<&WaterGrid> {
         self.water.as_ref()
     }
-    /// The spectral near field the stone rides on (`water.near_field: Spectral` with wavy
-    /// contact), absent otherwise.
-    pub fn near_field(&self) -> Option<&SpectralField> {
-        self.near.as_ref()
-    }
     /// (accepted steps, force evaluations).
     pub fn cost(&self) -> (u64, u64) {
         (self.motion.steps, self.motion.force_evals)
@@ -657,9 +622,6 @@ impl Simulation {
         if let Some(w) = self.water.as_mut() {
             w.set_constants(physics.gravity, physics.water_density)?;
         }
-        if let Some(n) = self.near.as_mut() {
-            n.set_constants(physics.gravity, physics.water_density);
-        }
         self.preset.physics = physics;
         self.hydro = HydroParams::from_physics(&physics);
         self.air = air_model(&physics, &self.preset.stone.shape);
@@ -688,15 +650,6 @@ impl Simulation {
                 volume_final: w.volume(),
                 stepped: self.step_water,
             }),
-            near_field: self.near.as_ref().map(|n| {
-                let (received, missed) = n.impulse_received();
-                NearFieldSummary {
-                    cells: n.cells(),
-                    cell: n.cell(),
-                    impulse_received: received,
-                    impulse_missed: missed,
-                }
-            }),
         }
     }
 
@@ -714,12 +667,12 @@ impl Simulation {
     }
 
     /// Stops stepping the water when nothing the run reports depends on it: with wavy contact off
-    /// the stone meets the plane z = 0 (with the spectral near field, that field), so its motion,
+    /// the stone meets the plane z = 0, so its motion,
     /// contacts and outcome are the same with the water at rest (the lake's extent still bounds
     /// the run: `left_domain`). Headless runs call this; the app does not (it shows the rings).
     /// Returns whether the water is now left at rest; the summary says so (`water.stepped`).
     pub fn skip_unread_water(&mut self) -> bool {
-        if self.water.is_some() && (!self.preset.water.wavy_contact || self.near.is_some()) {
+        if self.water.is_some() && !self.preset.water.wavy_contact {
             self.step_water = false;
         }
         !self.step_water
@@ -793,8 +746,8 @@ impl Simulation {
             self.finish(Outcome::Timeout);
         }
         self.deposit_pending();
-        // The surface the stone reads: the near field's when it has one, else the columns'.
-        let reads_columns = self.preset.water.wavy_contact && self.near.is_none();
+        // With wavy contact the stone reads the columns.
+        let reads_columns = self.preset.water.wavy_contact;
         let mut moved = false;
         if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             let before = w.time();
@@ -803,15 +756,6 @@ impl Simulation {
                 // The surface the last forces were evaluated on has moved.
                 self.motion.fsal = None;
             }
-            moved = true;
-        }
-        if let Some(n) = self.near.as_mut() {
-            // Following the stone keeps every height where it was.
-            if n.advance(dt) {
-                self.motion.fsal = None;
-            }
-            let p = self.motion.state.position;
-            n.follow(p.x, p.y);
             moved = true;
         }
         if moved {
@@ -826,11 +770,6 @@ impl Simulation {
         if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             for l in &self.motion.pending {
                 w.deposit_load_box(l.x, l.y, l.half, l.impulse, l.horizontal);
-            }
-        }
-        if let Some(n) = self.near.as_mut() {
-            for l in &self.motion.pending {
-                n.deposit(l.x, l.y, l.half, l.impulse);
             }
         }
         self.motion.pending.clear();
@@ -850,10 +789,7 @@ impl Simulation {
         }
         let reach = self.reach();
         let p = self.motion.state.position;
-        let (m, slope) = if let Some(n) = &self.near {
-            let r = reach + 2.0 * n.cell();
-            n.bounds_over([p.x - r, p.y - r], [p.x + r, p.y + r])
-        } else if let Some(w) = &self.water {
+        let (m, slope) = if let Some(w) = &self.water {
             let r = reach + 2.0 * w.cell();
             local_bounds(w, &mut self.water_patch, p.x, p.y, r)
         } else {
@@ -884,7 +820,6 @@ impl Simulation {
         SurfaceRef::new(
             &self.water,
             &self.water_patch,
-            self.near.as_ref(),
             self.preset.water.wavy_contact,
             self.water_max_eta,
             self.water_max_slope,
@@ -1063,7 +998,6 @@ impl Simulation {
         let surface = SurfaceRef::new(
             &self.water,
             &self.water_patch,
-            self.near.as_ref(),
             self.preset.water.wavy_contact,
             self.water_max_eta,
             self.water_max_slope,
@@ -1181,7 +1115,7 @@ impl Simulation {
 
     /// Whether a lake will take the stone's face loads (there is one, and it steps).
     fn water_takes_loads(&self) -> bool {
-        (self.water.is_some() && self.step_water) || self.near.is_some()
+        self.water.is_some() && self.step_water
     }
 
     /// The flight from `s` over `t` (with the air when the preset has it).
@@ -1778,27 +1712,6 @@ fn adaptive_step(cx: &StepContext, m: &mut Motion, h_max: f64, h_contact: f64) -
         };
         h = (h * shrink).max(h_min);
     }
-}
-
-/// The spectral near field of a preset that asks for one (wavy contact on a lake with
-/// `near_field: Spectral`), centred on the launch point.
-fn near_field(preset: &Preset, centre: [f64; 2]) -> Option<SpectralField> {
-    let w = &preset.water;
-    if !(w.enabled && w.wavy_contact && w.near_field == params::NearField::Spectral) {
-        return None;
-    }
-    let s = &w.spectral;
-    let cfg = SpectralConfig {
-        cells: s.cells as usize,
-        cell: s.cell,
-        depth: w.depth,
-        gravity: preset.physics.gravity,
-        density: preset.physics.water_density,
-        surface_tension: s.surface_tension,
-        viscosity: s.viscosity,
-        sponge: true,
-    };
-    SpectralField::new(cfg, centre)
 }
 
 /// The highest η (−∞ when no column lies within `reach` of (x, y)) and the largest

@@ -6,8 +6,6 @@
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-pub use super::air::AirParams;
-
 /// Errors from validating a preset: which field, what it holds and what was expected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("field `{field}`: {message}")]
@@ -520,6 +518,34 @@ pub struct Physics {
     pub wetted_memory: Option<MemoryParams>,
 }
 
+/// The preset's air (`physics.air`; the model in `air.rs`): density and the disc's coefficients (per radian).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AirParams {
+    /// kg/m³ (dry air at 20 °C, sea level)
+    pub density: f64,
+    /// C_Lα (1/rad)
+    pub lift_slope: f64,
+    /// C_D0
+    pub drag_zero: f64,
+    /// C_Dα (1/rad²)
+    pub drag_slope: f64,
+    /// C_Mα (1/rad), about the centre, positive nose up for α > 0.
+    pub moment_slope: f64,
+}
+
+impl Default for AirParams {
+    fn default() -> Self {
+        Self {
+            density: 1.204,
+            lift_slope: 1.91,
+            drag_zero: 0.18,
+            drag_slope: 0.69,
+            moment_slope: 0.43,
+        }
+    }
+}
+
 /// The length L of the memory's lag τ = lag · L/|U| (`memory.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 pub enum LagLength {
@@ -659,11 +685,18 @@ pub struct WaterParams {
     /// Storage precision of depths and flows.
     pub precision: Precision,
     pub swell: Option<Swell>,
-    /// What the stone touches with wavy contact: the columns themselves, or a spectral patch of
-    /// deep-water potential flow that travels with it (`sim::water::spectral`). Omitted: `Columns`.
+    /// What the stone touches with wavy contact: the columns (the only value since the spectral
+    /// near field was retired; docs/studies/retired.md).
     pub near_field: NearField,
-    /// The spectral near field's patch and constants (read with `near_field: Spectral`).
-    pub spectral: SpectralParams,
+    /// The retired spectral near field's settings, which every preset saved before issue 40 wrote
+    /// out (`spectral: (cells: 128, …)`): read and ignored, never written.
+    #[serde(
+        default,
+        rename = "spectral",
+        skip_serializing,
+        deserialize_with = "skip_retired"
+    )]
+    pub retired_spectral: RetiredSettings,
     /// s: the longest water step of the columns; omitted: the automatic step, [`COURANT_SAFETY`]
     /// of the Courant limit (numerics only: a shorter step is always stable; fidelity study §11
     /// refines it with the tick).
@@ -679,38 +712,41 @@ pub struct WaterParams {
 
 /// The surface the stone touches with wavy contact.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(try_from = "NearFieldName")]
 pub enum NearField {
     /// The lake's columns (shallow-water waves at every wavelength).
     #[default]
     Columns,
-    /// Linear potential flow of depth H with the capillary–gravity dispersion relation on a square
-    /// patch that follows the stone; the columns still take the stone's impulses and show the rings.
+}
+
+/// Every value `water.near_field` ever took, the retired one included.
+#[derive(Deserialize)]
+enum NearFieldName {
+    Columns,
     Spectral,
 }
 
-/// The spectral near field (`water.near_field: Spectral`): Lamb 1932 §§229, 267, 348.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct SpectralParams {
-    /// Cells along each side of the patch: a power of two, 16–1024.
-    pub cells: u32,
-    /// m: the cell side (the patch is `cells × cell` square).
-    pub cell: f64,
-    /// N/m: surface tension σ (capillary waves; 0.0728 is clean water at 20 °C).
-    pub surface_tension: f64,
-    /// m²/s: kinematic viscosity ν (waves decay as e^{−2νk²t}; 1.0e-6 is water at 20 °C).
-    pub viscosity: f64,
-}
-
-impl Default for SpectralParams {
-    fn default() -> Self {
-        Self {
-            cells: 128,
-            cell: 0.01,
-            surface_tension: 0.0728,
-            viscosity: 1.0e-6,
+impl TryFrom<NearFieldName> for NearField {
+    type Error = Retired;
+    fn try_from(name: NearFieldName) -> Result<Self, Retired> {
+        match name {
+            NearFieldName::Columns => Ok(Self::Columns),
+            NearFieldName::Spectral => Err(Retired {
+                field: "water.near_field",
+                value: "Spectral",
+                why: "the stone reads only the ambient water since the wetted-extent memory \
+                      (issue 38), so no shipped preset touched a near field; write Columns",
+            }),
         }
     }
+}
+
+/// A retired group of settings that old presets still name: read whatever it holds, keep nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct RetiredSettings;
+
+fn skip_retired<'de, D: Deserializer<'de>>(deserializer: D) -> Result<RetiredSettings, D::Error> {
+    serde::de::IgnoredAny::deserialize(deserializer).map(|_| RetiredSettings)
 }
 
 impl WaterParams {
@@ -734,7 +770,7 @@ impl WaterParams {
             precision: Precision::F32,
             swell: None,
             near_field: NearField::Columns,
-            spectral: SpectralParams::default(),
+            retired_spectral: RetiredSettings,
             max_step: None,
         }
     }
@@ -1084,34 +1120,6 @@ impl WaterParams {
                 360.0,
                 "degrees",
             )?;
-        }
-        self.validate_spectral()
-    }
-
-    /// The spectral near field's settings (checked whatever `near_field` says, so a preset is
-    /// valid or not independently of the switch).
-    fn validate_spectral(&self) -> Result<(), ParamError> {
-        let s = &self.spectral;
-        if !(16..=1024).contains(&s.cells) || !s.cells.is_power_of_two() {
-            return Err(ParamError::new(
-                "water.spectral.cells",
-                format!("expected a power of two from 16 to 1024, found {}", s.cells),
-            ));
-        }
-        check_range("water.spectral.cell", s.cell, 0.001, 0.5, "m")?;
-        check_range(
-            "water.spectral.surface_tension",
-            s.surface_tension,
-            0.0,
-            1.0,
-            "N/m",
-        )?;
-        check_range("water.spectral.viscosity", s.viscosity, 0.0, 0.01, "m²/s")?;
-        if self.near_field == NearField::Spectral && self.swell.is_some() {
-            return Err(ParamError::new(
-                "water.swell",
-                "expected no swell with near_field: Spectral (the near field holds only the stone's own waves); use near_field: Columns".to_string(),
-            ));
         }
         Ok(())
     }

@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::storage::{Coeffs, Fields, Num, Real};
+use super::storage::{Coeffs, Fields, Num, Real, Scratch};
 
 /// The coefficients of one step in the kernel's arithmetic type, converted once per step.
 #[derive(Debug, Clone, Copy)]
@@ -44,47 +44,6 @@ impl<C: Num> Kc<C> {
     /// Walls of row j: 0, 1 or 2 (a one-row grid).
     fn walls(j: usize, ny: usize) -> usize {
         usize::from(j == 0) + usize::from(j + 1 == ny)
-    }
-}
-
-/// Buffers of one chunk: new flows and K for two rows, the limited flows of the row before the chunk,
-/// copies of the old rows on either side, and the surfaces of rows with a bed. Flow and K rows are
-/// padded by one entry on each side (flows 0, K 1) so that the neighbours at ix ± 1 need no branch.
-/// Everything is held in the storage type, so a value the chunk keeps for itself equals the one its
-/// neighbour stores.
-#[derive(Debug, Clone, Default)]
-pub(super) struct Scratch<T> {
-    pub(super) w: usize,
-    pub(super) np: usize,
-    /// New flows before the limiter: [slot 0..2][pipe 0..np][w].
-    pub(super) qn: Vec<T>,
-    /// Limited flows of the row before the chunk: [pipe 0..np][w].
-    pub(super) qf: Vec<T>,
-    /// Old row blocks just before and just after the chunk (rows r0 − 2, r0 − 1 and r1, r1 + 1).
-    pub(super) lo: Vec<T>,
-    pub(super) hi: Vec<T>,
-    /// [slot 0..2][w]
-    pub(super) k: Vec<T>,
-    /// Surfaces (depth + bed) of rows j and j + 1 where a bed is set.
-    pub(super) h0: Vec<T>,
-    pub(super) h1: Vec<T>,
-}
-
-impl<T: Num> Scratch<T> {
-    fn ensure(&mut self, nx: usize, np: usize) {
-        let w = nx + 2;
-        let stride = (np + 1) * w;
-        self.lo.resize(2 * stride, T::ZERO);
-        self.hi.resize(2 * stride, T::ZERO);
-        if self.w != w || self.np != np {
-            self.w = w;
-            self.np = np;
-            self.qn = vec![T::ZERO; 2 * np * w];
-            self.qf = vec![T::ZERO; np * w];
-            self.k = vec![T::ONE; 2 * w];
-            self.h0 = vec![T::ZERO; w];
-            self.h1 = vec![T::ZERO; w];
-        }
     }
 }
 
@@ -161,10 +120,6 @@ pub(super) struct Input<'a, T> {
     row_bed: &'a [bool],
     row_press: &'a [bool],
 }
-
-/// Columns per segment of the row pipeline: the arrays one segment touches (≈ 20 of them) stay in
-/// the L1 cache between the stages.
-pub(super) const SEGMENT: usize = 128;
 
 pub(super) fn run_chunk<T: Real>(
     co: &Coeffs,

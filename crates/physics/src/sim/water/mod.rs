@@ -72,10 +72,8 @@
 //! Units are SI throughout: metres, seconds, m³/s, pascals, newton-seconds.
 
 mod deposits;
-pub mod fft;
 mod kernel;
 mod sampling;
-pub mod spectral;
 mod storage;
 #[cfg(test)]
 mod tests;
@@ -85,7 +83,6 @@ use crate::sim::params::{Limiter, ParamError, Precision, WaterParams, MAX_WATER_
 use storage::{each, Coeffs, Fields, State};
 
 pub use sampling::{EtaPatch, PatchReader};
-pub use spectral::{SpectralConfig, SpectralField};
 
 /// Fraction of the Courant limit at which the automatic water step runs: r = 0.7/√2 ≈ 0.495 with axis
 /// pipes, r = 0.7·√3/2 ≈ 0.606 with diagonals. Below the limit by 30 %, and near the top, where the

@@ -9,7 +9,6 @@ use crate::sim::params::Swell;
 
 use crate::sim::params::Limiter;
 
-use super::kernel::{Scratch, SEGMENT};
 use super::{Active, WaterConfig, WaterGrid};
 
 /// Pipe areas (m²) of an axis and a diagonal pipe: the isotropic A_axis = ⅔Hl, A_diag = (√2/6)Hl
@@ -417,5 +416,50 @@ impl Neumaier {
     }
     pub(super) fn value(&self) -> f64 {
         self.sum + self.c
+    }
+}
+
+/// Columns per segment of the row pipeline: the arrays one segment touches (≈ 20 of them) stay in
+/// the L1 cache between the stages.
+pub(super) const SEGMENT: usize = 128;
+
+/// Buffers of one chunk: new flows and K for two rows, the limited flows of the row before the chunk,
+/// copies of the old rows on either side, and the surfaces of rows with a bed. Flow and K rows are
+/// padded by one entry on each side (flows 0, K 1) so that the neighbours at ix ± 1 need no branch.
+/// Everything is held in the storage type, so a value the chunk keeps for itself equals the one its
+/// neighbour stores.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Scratch<T> {
+    pub(super) w: usize,
+    pub(super) np: usize,
+    /// New flows before the limiter: [slot 0..2][pipe 0..np][w].
+    pub(super) qn: Vec<T>,
+    /// Limited flows of the row before the chunk: [pipe 0..np][w].
+    pub(super) qf: Vec<T>,
+    /// Old row blocks just before and just after the chunk (rows r0 − 2, r0 − 1 and r1, r1 + 1).
+    pub(super) lo: Vec<T>,
+    pub(super) hi: Vec<T>,
+    /// [slot 0..2][w]
+    pub(super) k: Vec<T>,
+    /// Surfaces (depth + bed) of rows j and j + 1 where a bed is set.
+    pub(super) h0: Vec<T>,
+    pub(super) h1: Vec<T>,
+}
+
+impl<T: Num> Scratch<T> {
+    pub(super) fn ensure(&mut self, nx: usize, np: usize) {
+        let w = nx + 2;
+        let stride = (np + 1) * w;
+        self.lo.resize(2 * stride, T::ZERO);
+        self.hi.resize(2 * stride, T::ZERO);
+        if self.w != w || self.np != np {
+            self.w = w;
+            self.np = np;
+            self.qn = vec![T::ZERO; 2 * np * w];
+            self.qf = vec![T::ZERO; np * w];
+            self.k = vec![T::ONE; 2 * w];
+            self.h0 = vec![T::ZERO; w];
+            self.h1 = vec![T::ZERO; w];
+        }
     }
 }
