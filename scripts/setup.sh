@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Installs what a fresh Debian machine lacks to build, test and run stoneskip: Mesa's software
 # Vulkan/GL drivers (the app and the offscreen renderer run on them without a GPU), Xvfb for the
-# window smoke test (with openbox, a real window manager, and xprop for the minimise check), fonts
-# and pkg-config. Idempotent; skips apt when everything is present.
+# window smoke test (with openbox, a real window manager, and xprop for the minimise check), fonts,
+# pkg-config and python3 (the import-circle check). Idempotent; skips apt when everything is present.
 set -euo pipefail
 pkgs=(mesa-vulkan-drivers libvulkan1 libegl1 libgl1-mesa-dri xvfb xauth xdotool imagemagick
-      openbox x11-utils libfontconfig1-dev pkg-config fonts-dejavu-core)
+      openbox x11-utils libfontconfig1-dev pkg-config fonts-dejavu-core python3-minimal)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

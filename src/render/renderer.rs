@@ -21,49 +21,12 @@ use super::passes::sky::SkyPass;
 use super::passes::stone::StonePass;
 use super::passes::upscale::UpscalePass;
 use super::passes::water::WaterPass;
+pub use super::passes::{
+    projected_grid_size, sun_direction, Viewport, DEPTH_FORMAT, FOG_DISTANCE, GRID_SPACING,
+    PREP_FORMAT, SUN_AZIMUTH_DEG, SUN_ELEVATION_DEG,
+};
 use super::passes::{Globals, Shared};
 use super::scene::Scene;
-
-/// Depth buffer format (reversed: cleared to 0, nearer is greater).
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Format of the prepared water texture: (∂η/∂x, ∂η/∂y, η, 1), filterable everywhere.
-pub const PREP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Direction towards the sun: 25° above the horizon, ahead of the default camera and a little to
-/// its left, so the glitter of the ripples lies in the default view.
-pub const SUN_AZIMUTH_DEG: f32 = 32.0;
-pub const SUN_ELEVATION_DEG: f32 = 24.0;
-/// Haze distance (m).
-pub const FOG_DISTANCE: f32 = 700.0;
-
-/// A rectangle of the target in pixels (the 3D view's part of the window).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Viewport {
-    pub x: f32,
-    pub y: f32,
-    pub width: f32,
-    pub height: f32,
-}
-
-impl Viewport {
-    pub fn full(width: u32, height: u32) -> Self {
-        Self {
-            x: 0.0,
-            y: 0.0,
-            width: width as f32,
-            height: height as f32,
-        }
-    }
-
-    pub fn aspect(&self) -> f32 {
-        self.width / self.height.max(1.0)
-    }
-}
-
-/// Unit vector towards the sun.
-pub fn sun_direction() -> Vec3 {
-    let (az, el) = (SUN_AZIMUTH_DEG.to_radians(), SUN_ELEVATION_DEG.to_radians());
-    Vec3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin())
-}
 
 /// Settings fixed when the renderer is made.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -361,16 +324,6 @@ impl SceneRenderer {
             ],
         }
     }
-}
-
-/// Pixels between neighbouring vertices of the projected water grid.
-pub const GRID_SPACING: f32 = 16.0;
-
-/// Vertices (across, down) of the projected grid for a `width` × `height` viewport, `spacing`
-/// pixels apart.
-pub fn projected_grid_size(width: f32, height: f32, spacing: f32) -> (u32, u32) {
-    let n = |px: f32| ((px / spacing.max(1.0)).ceil() as u32).clamp(8, 800) + 1;
-    (n(width), n(height))
 }
 
 /// NDC height of the horizon (the water plane's vanishing line) seen from `eye`; −2 when it lies

@@ -1,7 +1,8 @@
 //! The scene renderer's passes, one struct each, in the shape of wgpu's examples: `new` builds the
 //! pipeline and its resources once, `prepare` uploads what the frame needs (only what changed),
-//! `draw` records into a render pass. They share the per-frame uniform block ([`Globals`]) and a
-//! pipeline builder ([`Shared`]).
+//! `draw` records into a render pass. They share the per-frame uniform block ([`Globals`]), a
+//! pipeline builder ([`Shared`]), and the target's formats, viewport, sun and water grid spacing
+//! (the renderer, which drives them, re-exports these).
 
 pub mod overlay;
 pub mod sky;
@@ -11,7 +12,58 @@ pub mod water;
 
 use bytemuck::{Pod, Zeroable};
 
-use super::renderer::DEPTH_FORMAT;
+use glam::Vec3;
+
+/// Depth buffer format (reversed: cleared to 0, nearer is greater).
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Format of the prepared water texture: (∂η/∂x, ∂η/∂y, η, 1), filterable everywhere.
+pub const PREP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Direction towards the sun: 25° above the horizon, ahead of the default camera and a little to
+/// its left, so the glitter of the ripples lies in the default view.
+pub const SUN_AZIMUTH_DEG: f32 = 32.0;
+pub const SUN_ELEVATION_DEG: f32 = 24.0;
+/// Haze distance (m).
+pub const FOG_DISTANCE: f32 = 700.0;
+
+/// A rectangle of the target in pixels (the 3D view's part of the window).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Viewport {
+    pub x: f32,
+    pub y: f32,
+    pub width: f32,
+    pub height: f32,
+}
+
+impl Viewport {
+    pub fn full(width: u32, height: u32) -> Self {
+        Self {
+            x: 0.0,
+            y: 0.0,
+            width: width as f32,
+            height: height as f32,
+        }
+    }
+
+    pub fn aspect(&self) -> f32 {
+        self.width / self.height.max(1.0)
+    }
+}
+
+/// Unit vector towards the sun.
+pub fn sun_direction() -> Vec3 {
+    let (az, el) = (SUN_AZIMUTH_DEG.to_radians(), SUN_ELEVATION_DEG.to_radians());
+    Vec3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin())
+}
+
+/// Pixels between neighbouring vertices of the projected water grid.
+pub const GRID_SPACING: f32 = 16.0;
+
+/// Vertices (across, down) of the projected grid for a `width` × `height` viewport, `spacing`
+/// pixels apart.
+pub fn projected_grid_size(width: f32, height: f32, spacing: f32) -> (u32, u32) {
+    let n = |px: f32| ((px / spacing.max(1.0)).ceil() as u32).clamp(8, 800) + 1;
+    (n(width), n(height))
+}
 
 /// The per-frame uniform block every shader sees (`shaders/common.wgsl`).
 #[repr(C)]

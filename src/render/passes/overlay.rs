@@ -6,8 +6,8 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+use super::{sun_direction, Viewport};
 use super::{InstanceBuffer, PipelineDesc, Shared};
-use crate::render::renderer::{sun_direction, Viewport};
 use crate::render::scene::{Line, Scene, SPLASH_DURATION};
 
 /// Smallest drawn stone diameter (pixels): a farther stone is enlarged to it and ringed by a halo.

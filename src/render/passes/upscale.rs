@@ -2,8 +2,8 @@
 //! software rasterisers) is filtered bilinearly into the 3D view's rectangle; the same pipeline
 //! copies a finished frame into a window's swapchain image (`shaders/blit.wgsl`).
 
+use super::Viewport;
 use super::{PipelineDesc, Shared};
-use crate::render::renderer::Viewport;
 
 pub struct UpscalePass {
     pipeline: wgpu::RenderPipeline,

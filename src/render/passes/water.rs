@@ -6,9 +6,9 @@
 
 use wgpu::util::DeviceExt;
 
+use super::{projected_grid_size, Viewport, GRID_SPACING, PREP_FORMAT};
 use super::{PipelineDesc, Shared};
 use crate::render::mesh::grid_indices;
-use crate::render::renderer::{projected_grid_size, Viewport, GRID_SPACING, PREP_FORMAT};
 use crate::render::scene::WaterView;
 
 /// GPU resources of one water grid size.

@@ -18,7 +18,7 @@ use crate::sim::params::Preset;
 use crate::sim::scenario::{at_impact, min_speed, IMPACT_CLEARANCE};
 use crate::sim::{Outcome, Simulation};
 
-use super::fidelity::{before, par_map, shipped_for, QUICK_CELL};
+use super::fidelity_common::{before, par_map, shipped_for, QUICK_CELL};
 use super::table::{md_table, sig, Csv};
 use super::{check_cancel, Ctx, StudyError};
 

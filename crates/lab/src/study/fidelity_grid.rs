@@ -18,7 +18,7 @@ use crate::sim::metrics::{hovercraft, ThrowShape};
 use crate::sim::params::{Preset, Shape};
 use crate::sim::{Outcome, Simulation};
 
-use super::fidelity::{
+use super::fidelity_common::{
     ensemble_offsets, lower_median, par_map, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE,
     QUICK_CELL,
 };

@@ -16,7 +16,7 @@
 
 use crate::sim::params::{Preset, Rotation};
 
-use super::fidelity::{
+use super::fidelity_common::{
     ensemble_offsets, lower_median, par_map, shape, shipped_for, spin_drops, spin_revs, spin_runs,
     SpinRun,
 };

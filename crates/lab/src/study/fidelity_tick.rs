@@ -13,7 +13,7 @@
 use crate::sim::params::Preset;
 use crate::sim::Outcome;
 
-use super::fidelity::{ensemble_offsets, shipped_for, QUICK_CELL};
+use super::fidelity_common::{ensemble_offsets, shipped_for, QUICK_CELL};
 use super::fidelity_grid::{
     and_list, distinct, ensemble_row, glides, median_distance, run_cases, GridRun,
 };

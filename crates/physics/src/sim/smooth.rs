@@ -39,7 +39,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::hydro::{friction_force, pressure_sign, FaceLoad, ForceSum, HydroParams, Pose};
+use super::law::{friction_force, pressure_sign, FaceLoad, ForceSum, HydroParams, Pose};
 use super::params::ForceLaw;
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (n ≥ 1), nodes ascending.

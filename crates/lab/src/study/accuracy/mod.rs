@@ -197,7 +197,7 @@ pub fn shipped_tick() -> f64 {
 /// lake are what the app shows, and the study's text compares them with the built-in defaults it
 /// runs (`Preset::version_1()`). `None` if the compiled-in file does not load (a test catches that).
 pub fn shipped_default() -> Option<Preset> {
-    let (_, text) = super::fidelity::SHIPPED
+    let (_, text) = super::fidelity_common::SHIPPED
         .iter()
         .find(|(name, _)| *name == "default")?;
     crate::preset::parse(text, std::path::Path::new("assets/presets/default.ron")).ok()

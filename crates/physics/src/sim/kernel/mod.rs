@@ -29,9 +29,9 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::contact::clip_triangle;
-use super::hydro::{pressure_sign, FaceLoad, ForceSum, HydroParams, Pose, Surface};
+use super::law::{pressure_sign, FaceLoad, ForceSum, HydroParams, Pose, Surface};
+use super::mesh::{Mesh, RevolutionLayout};
 use super::params::ForceLaw;
-use super::stone::{Mesh, RevolutionLayout, Stone};
 
 mod rings;
 
@@ -251,6 +251,10 @@ pub struct KernelMesh {
     slack: f64,
     /// A body of revolution's rings and strips (the free-rotation path without boxes).
     revolution: Option<rings::Revolution>,
+    /// The stone is a body of revolution (a disk or a lens), whatever its layout.
+    of_revolution: bool,
+    /// Radius of the sphere about the centre of mass that holds every vertex (m).
+    bounding_radius: f64,
 }
 
 /// Margin on the bounds of u·n (unit normals).
@@ -258,12 +262,15 @@ const NORMAL_SLACK: f64 = 1e-12;
 
 impl KernelMesh {
     /// From the centred mesh, its body-frame normals and areas, and its layout when it is a
-    /// body of revolution (checked against the mesh; unused when it does not fit).
+    /// body of revolution (checked against the mesh; unused when it does not fit);
+    /// `of_revolution` and `bounding_radius` are the stone's.
     pub fn new(
         mesh: &Mesh,
         normals: &[DVec3],
         areas: &[f64],
         layout: Option<&RevolutionLayout>,
+        of_revolution: bool,
+        bounding_radius: f64,
     ) -> Self {
         let reach = mesh
             .positions
@@ -319,6 +326,8 @@ impl KernelMesh {
             vertex_count: mesh.positions.len(),
             slack: 1e-12 * reach.max(f64::MIN_POSITIVE),
             revolution: layout.and_then(|l| rings::Revolution::new(mesh, normals, areas, l, reach)),
+            of_revolution,
+            bounding_radius,
         }
     }
 
@@ -691,7 +700,7 @@ struct Ctx<'a> {
 
 impl<'a> Ctx<'a> {
     fn new(
-        stone: &Stone,
+        km: &KernelMesh,
         hp: &HydroParams,
         pose: &Pose,
         rot: Option<DMat3>,
@@ -702,7 +711,7 @@ impl<'a> Ctx<'a> {
             None => x,
         };
         // As the reference's `SpinSplit`: ω_⊥ = ω − (ω·a)a on a smooth body of revolution.
-        let revolution = stone.shape.is_revolution();
+        let revolution = km.of_revolution;
         let (normal_w, axis) = if hp.smooth_spin && revolution {
             let a = pose.orientation * DVec3::Z;
             let w = pose.angular_velocity;
@@ -1635,7 +1644,7 @@ fn classify<const LAW: u8, const ROT: bool>(
 /// Forces and torque of the water on the stone: the fast path of [`super::hydro::evaluate`]
 /// (callers check [`fast_path_supports`] first).
 pub fn evaluate(
-    stone: &Stone,
+    km: &KernelMesh,
     hp: &HydroParams,
     pose: &Pose,
     surface: &dyn Surface,
@@ -1646,7 +1655,7 @@ pub fn evaluate(
     if record {
         loads.clear();
     }
-    if pose.position.z - stone.bounding_radius > surface.max_height() {
+    if pose.position.z - km.bounding_radius > surface.max_height() {
         return ForceSum::default();
     }
     let rot = pose.angular_velocity != DVec3::ZERO;
@@ -1658,15 +1667,15 @@ pub fn evaluate(
         record,
     };
     match (law_code(hp.law), rot, held || !rot) {
-        (PAPER, false, _) => sorted_path::<PAPER, false>(stone, &call, ks, loads),
-        (BOCQUET, false, _) => sorted_path::<BOCQUET, false>(stone, &call, ks, loads),
-        (_, false, _) => sorted_path::<ROSELLINI, false>(stone, &call, ks, loads),
-        (PAPER, true, true) => sorted_path::<PAPER, true>(stone, &call, ks, loads),
-        (BOCQUET, true, true) => sorted_path::<BOCQUET, true>(stone, &call, ks, loads),
-        (_, true, true) => sorted_path::<ROSELLINI, true>(stone, &call, ks, loads),
-        (PAPER, true, false) => body_path::<PAPER>(stone, &call, ks, loads),
-        (BOCQUET, true, false) => body_path::<BOCQUET>(stone, &call, ks, loads),
-        (_, true, false) => body_path::<ROSELLINI>(stone, &call, ks, loads),
+        (PAPER, false, _) => sorted_path::<PAPER, false>(km, &call, ks, loads),
+        (BOCQUET, false, _) => sorted_path::<BOCQUET, false>(km, &call, ks, loads),
+        (_, false, _) => sorted_path::<ROSELLINI, false>(km, &call, ks, loads),
+        (PAPER, true, true) => sorted_path::<PAPER, true>(km, &call, ks, loads),
+        (BOCQUET, true, true) => sorted_path::<BOCQUET, true>(km, &call, ks, loads),
+        (_, true, true) => sorted_path::<ROSELLINI, true>(km, &call, ks, loads),
+        (PAPER, true, false) => body_path::<PAPER>(km, &call, ks, loads),
+        (BOCQUET, true, false) => body_path::<BOCQUET>(km, &call, ks, loads),
+        (_, true, false) => body_path::<ROSELLINI>(km, &call, ks, loads),
     }
 }
 
@@ -1707,12 +1716,11 @@ fn finish(c: &Ctx, acc: &Acc, in_contact: bool) -> ForceSum {
 
 /// Held orientation: faces sorted by height in world axes.
 fn sorted_path<const LAW: u8, const ROT: bool>(
-    stone: &Stone,
+    km: &KernelMesh,
     call: &Call,
     ks: &mut KernelScratch,
     loads: &mut Vec<FaceLoad>,
 ) -> ForceSum {
-    let km = stone.kernel();
     let pose = call.pose;
     if ks.sorted.as_ref().map(|s| s.orientation) != Some(pose.orientation) {
         ks.sorted = Some(Sorted::new(km, pose.orientation));
@@ -1726,12 +1734,12 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
     let Some(s) = sorted.as_ref() else {
         return ForceSum::default();
     };
-    let c = Ctx::new(stone, call.hp, pose, None, call);
+    let c = Ctx::new(km, call.hp, pose, None, call);
     let z = pose.position.z;
     let faces = &s.faces;
     let mut acc = Acc::default();
     wet.clear();
-    let scale = z.abs() + stone.bounding_radius;
+    let scale = z.abs() + km.bounding_radius;
     let in_contact;
     if call.surface.is_flat() {
         // Some corner wet ⇔ the lowest is; wholly wet ⇔ the highest is (rounding is monotonic).
@@ -1779,18 +1787,17 @@ fn sorted_path<const LAW: u8, const ROT: bool>(
 
 /// Free rotation: body frame, boxes cull.
 fn body_path<const LAW: u8>(
-    stone: &Stone,
+    km: &KernelMesh,
     call: &Call,
     ks: &mut KernelScratch,
     loads: &mut Vec<FaceLoad>,
 ) -> ForceSum {
-    let km = stone.kernel();
     if let Some(rev) = &km.revolution {
-        return rings::ring_path::<LAW>(stone, rev, call, ks, loads);
+        return rings::ring_path::<LAW>(km, rev, call, ks, loads);
     }
     let pose = call.pose;
     let (rot, u) = frame(pose.orientation);
-    let c = Ctx::new(stone, call.hp, pose, Some(rot), call);
+    let c = Ctx::new(km, call.hp, pose, Some(rot), call);
     let surface = call.surface;
     let flat = surface.is_flat();
     let (max_h, min_h) = if flat {
@@ -1902,7 +1909,7 @@ mod tests {
                         &crate::sim::params::StoneParams::version_1(),
                     )
                     .unwrap();
-                    let c = Ctx::new(&stone, &hp, &pose, None, &call);
+                    let c = Ctx::new(stone.kernel(), &hp, &pose, None, &call);
                     let speed = v.length();
                     let expect = face_force(&hp, normal, area, v, vn, speed, depth);
                     let n = [[normal.x], [normal.y], [normal.z]];
@@ -2017,7 +2024,7 @@ mod tests {
                         surface,
                         record: false,
                     };
-                    let c = Ctx::new(&stone, &hp, &pose, None, &call);
+                    let c = Ctx::new(stone.kernel(), &hp, &pose, None, &call);
                     let run = |simd: bool| {
                         let mut la = LaneAcc::<LANES>::default();
                         if simd {

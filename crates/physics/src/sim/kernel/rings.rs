@@ -14,10 +14,10 @@
 use glam::DVec3;
 
 use super::{
-    dot, finish, frame, wet_faces, Acc, Call, Ctx, FaceLoad, FaceSoa, ForceSum, KernelScratch,
-    Mesh, LANES,
+    dot, finish, frame, wet_faces, Acc, Call, Ctx, FaceLoad, FaceSoa, ForceSum, KernelMesh,
+    KernelScratch, Mesh, LANES,
 };
-use crate::sim::stone::{RevolutionLayout, Stone};
+use crate::sim::mesh::RevolutionLayout;
 
 /// A ring of vertices: centre (x, y), height z and radius r in the body frame (r = 0: a pole).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -367,7 +367,7 @@ fn columns(n: i64, a: (Arc, Arc), b: (Arc, Arc)) -> (Arc, [Arc; 2]) {
 
 /// Free rotation of a body of revolution: see the module's documentation.
 pub(super) fn ring_path<const LAW: u8>(
-    stone: &Stone,
+    km: &KernelMesh,
     rev: &Revolution,
     call: &Call,
     ks: &mut KernelScratch,
@@ -375,7 +375,7 @@ pub(super) fn ring_path<const LAW: u8>(
 ) -> ForceSum {
     let pose = call.pose;
     let (rot, u) = frame(pose.orientation);
-    let c = Ctx::new(stone, call.hp, pose, Some(rot), call);
+    let c = Ctx::new(km, call.hp, pose, Some(rot), call);
     let surface = call.surface;
     let flat = surface.is_flat();
     let levels = if flat {
@@ -401,7 +401,7 @@ pub(super) fn ring_path<const LAW: u8>(
     band.clear();
     let culls = c.culls_receding();
     if !flat {
-        heights.start(stone.kernel().vertex_count);
+        heights.start(km.vertex_count);
     }
     let m = rs.prepare(rev, u);
     let (mut wet_arcs, mut maybe_arcs) =
@@ -552,6 +552,7 @@ fn wet_range<const LAW: u8>(
 mod tests {
     use super::*;
     use crate::sim::params::{Shape, StoneParams};
+    use crate::sim::stone::Stone;
 
     fn stone(shape: Shape, segments: u32) -> Stone {
         Stone::new(&StoneParams {
