@@ -1,17 +1,20 @@
 //! stoneskip: a physically based stone-skipping simulator.
 //!
-//! Layers (imports run one way): `app` → `ui`, `render` → `sim`. `sim` is the physics and knows
-//! nothing of frames or windows; `preset` and `report` are its file formats; `study` runs the
-//! speed-versus-accuracy studies.
+//! The product: the desktop app (`app`, `ui`) and the command line's formats (`report`), over the
+//! workspace's crates: the physics (`sim`, `preset`: stoneskip-physics), the renderer (`render`:
+//! stoneskip-render), the 2D reference (`reference`) and the studies (`study`: stoneskip-lab).
+//! Imports run one way: `app` → `ui`, `render` → `sim`.
 //!
 //! Features: `app` (default) builds the desktop app, the renderer and the UI, and turns on
-//! `charts`, the studies' PNG charts. With `--no-default-features` the crate is the physics, the
-//! file formats and the headless studies (CSV and Markdown), and needs none of the graphics crates.
+//! `charts`, the studies' PNG charts; `lab` (default) the studies. With `--no-default-features`
+//! the crate is the physics, the file formats and the headless `simulate`, and needs none of the
+//! graphics crates.
 
 #[cfg(feature = "app")]
 pub mod app;
+/// The renderer lives in the `stoneskip-render` crate (wgpu; behind the `app` feature).
 #[cfg(feature = "app")]
-pub mod render;
+pub use stoneskip_render as render;
 pub mod report;
 #[cfg(feature = "app")]
 pub mod ui;

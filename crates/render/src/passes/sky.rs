@@ -10,7 +10,7 @@ pub struct SkyPass {
 impl SkyPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let layout = shared.layout(device, "sky", &[Some(&shared.globals_layout)]);
-        let module = shared.shader(device, "sky", include_str!("../../../shaders/sky.wgsl"));
+        let module = shared.shader(device, "sky", include_str!("../../shaders/sky.wgsl"));
         let pipeline = shared.pipeline(
             device,
             PipelineDesc {

@@ -198,7 +198,7 @@ impl Shared {
 
     /// A shader module: `shaders/common.wgsl` followed by `body`.
     pub fn shader(&self, device: &wgpu::Device, label: &str, body: &str) -> wgpu::ShaderModule {
-        let source = format!("{}\n{}", include_str!("../../../shaders/common.wgsl"), body);
+        let source = format!("{}\n{}", include_str!("../../shaders/common.wgsl"), body);
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(label),
             source: wgpu::ShaderSource::Wgsl(source.into()),

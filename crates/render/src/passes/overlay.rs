@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::{sun_direction, Viewport};
 use super::{InstanceBuffer, PipelineDesc, Shared};
-use crate::render::scene::{Line, Scene, SPLASH_DURATION};
+use crate::scene::{Line, Scene, SPLASH_DURATION};
 
 /// Smallest drawn stone diameter (pixels): a farther stone is enlarged to it and ringed by a halo.
 pub const MIN_STONE_PX: f32 = 12.0;
@@ -55,7 +55,7 @@ impl OverlayPass {
         let module = shared.shader(
             device,
             "overlay",
-            include_str!("../../../shaders/overlay.wgsl"),
+            include_str!("../../shaders/overlay.wgsl"),
         );
         let line_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<LineInstance>() as u64,
@@ -222,7 +222,7 @@ impl OverlayPass {
             // Older parts of the path fade a little so the newest flight reads first.
             let age = 1.0 - i as f32 / n.max(1) as f32;
             let color = if scene.side_view {
-                crate::render::build::SIDE_TRAIL_COLOR
+                crate::build::SIDE_TRAIL_COLOR
             } else {
                 [1.0, 0.78, 0.25, 0.9 - 0.35 * age]
             };

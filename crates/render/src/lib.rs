@@ -24,6 +24,9 @@ pub use offscreen::Offscreen;
 pub use renderer::{RendererConfig, SceneRenderer, Viewport};
 pub use scene::{Line, Scene, SceneStyle, WaterView};
 
+/// The physics, under the name the renderer's modules use (`crate::sim`).
+use stoneskip_physics::sim;
+
 use crate::sim::params::Preset;
 use crate::sim::{SimError, Simulation};
 
@@ -163,11 +166,10 @@ pub fn render_to_png(
     height: u32,
     time: f64,
     view: PictureView,
-) -> anyhow::Result<()> {
+) -> Result<(), RenderError> {
     let img = render_image(preset, width, height, time, view)?;
     img.save_with_format(out, image::ImageFormat::Png)
-        .map_err(RenderError::from)?;
-    Ok(())
+        .map_err(RenderError::from)
 }
 
 #[cfg(test)]

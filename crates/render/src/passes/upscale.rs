@@ -14,7 +14,7 @@ impl UpscalePass {
         let layout = shared.layout(device, "blit", &[Some(&shared.texture_layout)]);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("blit"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../shaders/blit.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/blit.wgsl").into()),
         });
         let pipeline = shared.pipeline(
             device,

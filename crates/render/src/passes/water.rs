@@ -8,8 +8,8 @@ use wgpu::util::DeviceExt;
 
 use super::{projected_grid_size, Viewport, GRID_SPACING, PREP_FORMAT};
 use super::{PipelineDesc, Shared};
-use crate::render::mesh::grid_indices;
-use crate::render::scene::WaterView;
+use crate::mesh::grid_indices;
+use crate::scene::WaterView;
 
 /// GPU resources of one water grid size.
 struct GridTextures {
@@ -75,9 +75,9 @@ impl WaterPass {
         let prep_sh = shared.shader(
             device,
             "water_prep",
-            include_str!("../../../shaders/water_prep.wgsl"),
+            include_str!("../../shaders/water_prep.wgsl"),
         );
-        let water_sh = shared.shader(device, "water", include_str!("../../../shaders/water.wgsl"));
+        let water_sh = shared.shader(device, "water", include_str!("../../shaders/water.wgsl"));
         let prep_targets = [Some(wgpu::ColorTargetState {
             format: PREP_FORMAT,
             blend: None,

@@ -4,8 +4,8 @@
 use wgpu::util::DeviceExt;
 
 use super::{PipelineDesc, Shared};
-use crate::render::mesh::{mesh_key, stone_vertices, StoneVertex};
-use crate::render::scene::Scene;
+use crate::mesh::{mesh_key, stone_vertices, StoneVertex};
+use crate::scene::Scene;
 
 struct StoneMesh {
     key: u64,
@@ -21,7 +21,7 @@ pub struct StonePass {
 impl StonePass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let layout = shared.layout(device, "stone", &[Some(&shared.globals_layout)]);
-        let module = shared.shader(device, "stone", include_str!("../../../shaders/stone.wgsl"));
+        let module = shared.shader(device, "stone", include_str!("../../shaders/stone.wgsl"));
         let buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<StoneVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
