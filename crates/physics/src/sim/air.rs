@@ -28,10 +28,10 @@ pub use super::params::AirParams;
 use super::params::Shape;
 
 /// Longest substep of the kick–drift–kick flight (s).
-pub const AIR_SUBSTEP: f64 = 2.5e-4;
+pub(crate) const AIR_SUBSTEP: f64 = 2.5e-4;
 
 /// Largest angle of attack of the linear coefficients (rad): 30°, the edge of the measured range.
-pub const ALPHA_MAX: f64 = std::f64::consts::FRAC_PI_6;
+pub(crate) const ALPHA_MAX: f64 = std::f64::consts::FRAC_PI_6;
 
 /// The air's model for one stone: coefficients with the stone's plan area and diameter.
 #[derive(Debug, Clone, Copy, PartialEq)]

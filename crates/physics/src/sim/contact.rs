@@ -9,7 +9,7 @@ use glam::DVec3;
 
 /// The wetted part of one triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WettedPatch {
+pub(crate) struct WettedPatch {
     /// m²
     pub area: f64,
     /// Area centroid (world frame).
@@ -19,7 +19,7 @@ pub struct WettedPatch {
 /// Clips triangle `p` by the water surface. `d[i]` is vertex i's signed height above the surface
 /// (z − η); a vertex is wet when `d ≤ 0`. Along each edge the surface is taken as linear, which is
 /// exact for a flat surface. Returns `None` when no vertex is wet.
-pub fn clip_triangle(p: [DVec3; 3], d: [f64; 3]) -> Option<WettedPatch> {
+pub(crate) fn clip_triangle(p: [DVec3; 3], d: [f64; 3]) -> Option<WettedPatch> {
     let wet = [d[0] <= 0.0, d[1] <= 0.0, d[2] <= 0.0];
     let count = wet.iter().filter(|&&w| w).count();
     match count {

@@ -8,10 +8,8 @@ use glam::{DQuat, DVec3};
 
 use super::contact::{clip_triangle, WettedPatch};
 use super::kernel::{self, KernelScratch};
-pub use super::law::{
-    face_force, friction_force, pressure_sign, FaceLoad, FlatSurface, ForceSum, HydroParams, Pose,
-    Surface,
-};
+pub(crate) use super::law::face_force;
+pub use super::law::{pressure_sign, FaceLoad, FlatSurface, ForceSum, HydroParams, Pose, Surface};
 use super::smooth::SmoothLens;
 use super::stone::Stone;
 

@@ -40,7 +40,7 @@ pub struct BodyState {
 
 /// Time derivative of a [`BodyState`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Deriv {
+pub(crate) struct Deriv {
     pub dx: DVec3,
     pub dv: DVec3,
     pub dq: DVec4,
@@ -88,7 +88,7 @@ fn normalize_q(v: DVec4) -> DQuat {
 
 impl BodyState {
     /// self + Σ wᵢ kᵢ · h (quaternion renormalised).
-    pub fn combine(&self, h: f64, terms: &[(f64, &Deriv)]) -> BodyState {
+    pub(crate) fn combine(&self, h: f64, terms: &[(f64, &Deriv)]) -> BodyState {
         let mut s = Deriv::ZERO;
         for &(w, k) in terms {
             if w == 0.0 {
@@ -119,7 +119,7 @@ impl BodyState {
 }
 
 /// Everything a derivative needs besides the state.
-pub struct Dynamics<'a> {
+pub(crate) struct Dynamics<'a> {
     pub stone: &'a Stone,
     pub hydro: HydroParams,
     pub gravity: f64,
@@ -136,7 +136,7 @@ pub struct Dynamics<'a> {
 /// Whether a stone meets the water in the Résal frame: `axial_spin: Resal`, free rotation, a
 /// disk or a lens (a body of revolution, its inertia axisymmetric for any segment count ≥ 3) whose
 /// faces meet the water (the smooth lens's forces do not depend on its azimuth).
-pub fn resal_applies(stone: &Stone, rotation: Rotation, axial_spin: AxialSpin) -> bool {
+pub(crate) fn resal_applies(stone: &Stone, rotation: Rotation, axial_spin: AxialSpin) -> bool {
     axial_spin == AxialSpin::Resal
         && rotation == Rotation::Free
         && stone.shape.is_revolution()
@@ -148,7 +148,7 @@ pub fn resal_applies(stone: &Stone, rotation: Rotation, axial_spin: AxialSpin) -
 /// component in the stone's plane points along the mesh's azimuth 0 (body x). Same symmetry
 /// axis, so the same smooth body; the faceted mesh no longer turns with the spin. The stone's
 /// own orientation when the velocity is along the axis (no azimuth to hold).
-pub fn mesh_orientation(resal: bool, s: &BodyState) -> DQuat {
+pub(crate) fn mesh_orientation(resal: bool, s: &BodyState) -> DQuat {
     if !resal {
         return s.orientation;
     }
@@ -374,7 +374,7 @@ pub fn torque_free(stone: &Stone, q0: DQuat, l: DVec3, t: f64) -> DQuat {
 /// step's start): v' = v + a h, x' = x + (v + v')/2 h; the attitude (if free) turns with the starting
 /// ω. The caller evaluates the forces at the step's end (the loads the step ends with, and the next
 /// step's `k1`).
-pub fn step_paper(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -> BodyState {
+pub(crate) fn step_paper(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -> BodyState {
     let v1 = s.velocity + k1.dv * h;
     let mut out = *s;
     out.position = s.position + (s.velocity + v1) * (0.5 * h);
@@ -390,7 +390,7 @@ pub fn step_paper(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -> BodyState
 
 /// Semi-implicit (symplectic) Euler from `s` with its derivative `k1`: v' = v + a h, x' = x + v' h;
 /// L' = L + τ h, then the attitude turns with ω(L').
-pub fn step_symplectic_euler(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -> BodyState {
+pub(crate) fn step_symplectic_euler(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -> BodyState {
     let mut out = *s;
     out.velocity = s.velocity + k1.dv * h;
     out.position = s.position + out.velocity * h;
@@ -404,7 +404,7 @@ pub fn step_symplectic_euler(dy: &Dynamics, s: &BodyState, k1: &Deriv, h: f64) -
 }
 
 /// Classical RK4 from `s` with its first stage `k1`: three more force evaluations.
-pub fn step_rk4(
+pub(crate) fn step_rk4(
     dy: &Dynamics,
     s: &BodyState,
     k1: &Deriv,
@@ -427,11 +427,11 @@ pub fn step_rk4(
 
 /// Depth of the halvings of [`first_touch`]: a flight interval is cut into at most 2¹² parts, so a
 /// graze shallower than `rate × h / 2¹³` (µm at the speeds and steps of the presets) is not resolved.
-pub const TOUCH_SEARCH_DEPTH: u32 = 12;
+pub(crate) const TOUCH_SEARCH_DEPTH: u32 = 12;
 
 /// What the clearance search along an exact flight needs besides the flight itself.
 #[derive(Debug, Clone, Copy)]
-pub struct FlightBound {
+pub(crate) struct FlightBound {
     /// Largest rate (m/s) at which the lowest vertex's clearance *relative to the centre of mass's
     /// height* can change: ω_max R (the vertices turn about the centre, |ω| ≤ |L|/I_min) plus
     /// S (|v_h| + ω_max R) (the surface under a vertex, of slope at most S, passing at most that
@@ -461,7 +461,7 @@ pub struct FlightBound {
 /// c(t) ≥ c(a) − facet − rate (t − a): without the spin's ωR, which dominates `rate` for a
 /// fast-spun stone (a 30 rev/s pebble's rim moves at 11 m/s).
 #[derive(Debug, Clone, Copy)]
-pub struct RevolutionBound {
+pub(crate) struct RevolutionBound {
     pub rate: f64,
     pub facet: f64,
 }
@@ -536,7 +536,7 @@ struct Sample {
 /// `rate`, or as `revolution` bounds it), and the surface under the stone is at most the highest η
 /// over the rectangle its vertices can sweep: the chord of the centre's horizontal path, widened
 /// by the stone's radius and by the bow the air's acceleration `drift` allows.
-pub struct WaveBound<'a> {
+pub(crate) struct WaveBound<'a> {
     /// The lowest vertex's height relative to the centre of mass (flat water's clearance − z).
     pub rise: &'a dyn Fn(&BodyState) -> f64,
     /// The highest η of the surface over the rectangle [lo, hi] (world x, y).
@@ -622,7 +622,7 @@ impl Probe<'_> {
 /// a wet point is found, at most [`TOUCH_SEARCH_DEPTH`] times; each midpoint is flown to from its
 /// interval's start, so a general body's integrated torque-free rotation costs the flight's length
 /// once per level, not per sample.
-pub fn first_touch(
+pub(crate) fn first_touch(
     fly: &dyn Fn(&BodyState, f64) -> BodyState,
     clear: &dyn Fn(&BodyState) -> f64,
     bound: &FlightBound,
@@ -717,14 +717,14 @@ const E: [f64; 7] = [
 
 /// Scales of the error norm: an error of `tolerance × scale` in any part is a ratio of 1.
 #[derive(Debug, Clone, Copy)]
-pub struct ErrorScales {
+pub(crate) struct ErrorScales {
     pub position: f64,
     pub velocity: f64,
     pub angular_momentum: f64,
 }
 
 /// Result of one Dormand–Prince attempt.
-pub struct Dp5Step {
+pub(crate) struct Dp5Step {
     pub state: BodyState,
     /// Derivative and forces at the new state (the next step's first stage, FSAL).
     pub k_end: Deriv,
@@ -740,7 +740,7 @@ pub struct Dp5Step {
 
 /// One Dormand–Prince 5(4) attempt from `s` with first stage `k1` (already known). The stage at
 /// the new state is evaluated with `record` so its face loads can feed the water.
-pub fn step_dp5(
+pub(crate) fn step_dp5(
     dy: &Dynamics,
     s: &BodyState,
     k1: &Deriv,

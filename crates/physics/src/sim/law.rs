@@ -77,7 +77,7 @@ impl HydroParams {
 /// Water force on one wetted face (eq. 24): normal N (unit, outward), wetted area S, local
 /// velocity v (for friction), the face's normal velocity v_n (v·N, or the smooth body's, see
 /// `axial_spin`), centre-of-mass speed U, and the depth of the wetted centroid below the surface.
-pub fn face_force(
+pub(crate) fn face_force(
     hp: &HydroParams,
     normal: DVec3,
     area: f64,
@@ -125,7 +125,7 @@ pub fn pressure_sign(opposing: bool, vn: f64) -> f64 {
 /// The friction drag on a loaded face of `area` whose tangential velocity is `vt`: along −v_t,
 /// C_f ρ S |v_t|² / 2 (the paper's and Rosellini's law) or C_f ρ S U² / 2 (Bocquet's).
 #[inline]
-pub fn friction_force(hp: &HydroParams, vt: DVec3, area: f64, speed: f64) -> DVec3 {
+pub(crate) fn friction_force(hp: &HydroParams, vt: DVec3, area: f64, speed: f64) -> DVec3 {
     let vt_len = vt.length();
     if vt_len > 0.0 {
         let half_rho_s = 0.5 * hp.density * area;

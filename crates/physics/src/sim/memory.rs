@@ -37,14 +37,14 @@ use super::params::{LagLength, MemoryParams, Shape};
 
 /// Largest effective immersion an integrator may hold (m): far below any stone's centre, so a
 /// fixed-step integrator run far past its stable step stays finite.
-pub const MAX_MEMORY: f64 = 1.0;
+pub(crate) const MAX_MEMORY: f64 = 1.0;
 
 /// The shortest wetted length the lag is taken over, as a share of the stone's radius.
-pub const MIN_WETTED_SHARE: f64 = 0.01;
+pub(crate) const MIN_WETTED_SHARE: f64 = 0.01;
 
 /// The memory's constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WettedMemory {
+pub(crate) struct WettedMemory {
     /// λ (or κ with `LagLength::Radius`), dimensionless.
     pub lag: f64,
     pub length: LagLength,
@@ -95,14 +95,14 @@ impl WettedMemory {
 
 /// The geometric immersion of the lowest point below the ambient surface (m, ≥ 0) from its
 /// clearance above it.
-pub fn geometric_immersion(clearance: f64) -> f64 {
+pub(crate) fn geometric_immersion(clearance: f64) -> f64 {
     (-clearance).max(0.0)
 }
 
 /// The geometric streamwise wetted length s_g (m): the extent along the horizontal flow of the
 /// stone's waterline when its lowest point is `d_g` below a horizontal surface. The stone's
 /// diameter when it moves straight up or down (no streamwise direction).
-pub fn wetted_length(shape: &Shape, orientation: DQuat, velocity: DVec3, d_g: f64) -> f64 {
+pub(crate) fn wetted_length(shape: &Shape, orientation: DQuat, velocity: DVec3, d_g: f64) -> f64 {
     let flow = DVec3::new(velocity.x, velocity.y, 0.0);
     let Some(flow) = flow.try_normalize() else {
         return 2.0 * shape.half_extent();

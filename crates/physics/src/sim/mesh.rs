@@ -47,7 +47,7 @@ impl Mesh {
 
 /// Volume, centroid and inertia of a closed mesh of uniform density.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MassProperties {
+pub(crate) struct MassProperties {
     pub volume: f64,
     pub centroid: DVec3,
     /// Inertia tensor about the centroid, for the given mass (kg m²).
@@ -56,7 +56,7 @@ pub struct MassProperties {
 
 /// Mass properties by summing signed tetrahedra (origin, a, b, c) over the triangles: the second
 /// moment of a tetrahedron is det/120 · (a aᵀ + b bᵀ + c cᵀ + s sᵀ), s = a + b + c.
-pub fn mass_properties(mesh: &Mesh, mass: f64) -> MassProperties {
+pub(crate) fn mass_properties(mesh: &Mesh, mass: f64) -> MassProperties {
     let mut vol6 = 0.0;
     let mut first = DVec3::ZERO;
     let mut second = DMat3::ZERO;
@@ -122,7 +122,7 @@ pub fn build_mesh(shape: &Shape, segments: u32, bands: Option<u32>) -> Mesh {
 /// kernel checks it against the mesh before using it): rings of vertices at azimuths 2πj/n, and
 /// strips of faces between two rings, column by column.
 #[derive(Debug, Clone, PartialEq)]
-pub struct RevolutionLayout {
+pub(crate) struct RevolutionLayout {
     /// Vertices per ring (n).
     pub segments: usize,
     /// Each ring's vertex indices in azimuth order (n of them), or one vertex (a pole).
@@ -133,7 +133,7 @@ pub struct RevolutionLayout {
 }
 
 /// The layout of [`build_mesh`]'s mesh for a disk or a lens; `None` for a plate.
-pub fn revolution_layout(
+pub(crate) fn revolution_layout(
     shape: &Shape,
     segments: u32,
     bands: Option<u32>,

@@ -204,11 +204,11 @@ pub struct StepSample {
 }
 
 /// Horizontal distance beyond which a run without water counts as `left_domain` (m).
-pub const OPEN_WATER_LIMIT: f64 = 1000.0;
+pub(crate) const OPEN_WATER_LIMIT: f64 = 1000.0;
 
 /// Most steps one tick may take before the run is declared diverged (a runaway step loop; cannot
 /// happen with a positive minimum step, kept so a bug cannot hang the program).
-pub const MAX_STEPS_PER_TICK: u32 = 1_000_000;
+pub(crate) const MAX_STEPS_PER_TICK: u32 = 1_000_000;
 
 /// Most force evaluations one tick may use before the run is declared diverged: the work bound
 /// the step guard alone does not give (each accepted step may follow up to ~180 rejected attempts
@@ -221,7 +221,7 @@ pub const MAX_EVALS_PER_TICK: u64 = 10_000_000;
 /// 3 MB). The grid sums them per column until it steps, so handing them over early gives the
 /// same sums in the same order; without it a costly tick kept every loaded face of every step
 /// (finding S3: 7 GB resident and growing in one tick of the session-10 soak).
-pub const PENDING_FLUSH: usize = 1 << 16;
+pub(crate) const PENDING_FLUSH: usize = 1 << 16;
 
 /// One face's impulse on the water over an accepted step, spread over a square of the face's wetted
 /// footprint (Newton's third law of the face force, design.md §5): a footprint rather than a point, so

@@ -45,10 +45,10 @@ pub struct Preset {
 /// The shipped default throw as compiled in: the base of a `version: 2` preset's omitted fields and
 /// [`Preset::default`]. It names every field where the two schemas differ, and it is read as
 /// `version: 1` (the schema it is written in).
-pub const SHIPPED_DEFAULT_RON: &str = include_str!("../../../../assets/presets/default.ron");
+pub(crate) const SHIPPED_DEFAULT_RON: &str = include_str!("../../../../assets/presets/default.ron");
 
 /// The newest preset schema: omitted fields mean the shipped default.
-pub const LATEST_SCHEMA: u32 = 2;
+pub(crate) const LATEST_SCHEMA: u32 = 2;
 
 thread_local! {
     /// The schema whose base fills the omitted fields of the preset being parsed on this thread.
@@ -58,7 +58,7 @@ thread_local! {
 /// Runs `parse` with omitted preset fields taken from schema `version`'s base (1: the model before
 /// the fidelity work; 2: the shipped default); the previous schema is restored afterwards, even if
 /// `parse` unwinds.
-pub fn with_schema<T>(version: u32, parse: impl FnOnce() -> T) -> T {
+pub(crate) fn with_schema<T>(version: u32, parse: impl FnOnce() -> T) -> T {
     struct Restore(u32);
     impl Drop for Restore {
         fn drop(&mut self) {
@@ -818,10 +818,10 @@ where
 // ---------------------------------------------------------------------------------------------
 
 /// Largest launch speed accepted (m/s): well past any human throw (record arm speed ≈ 22 m/s).
-pub const MAX_SPEED: f64 = 100.0;
+pub(crate) const MAX_SPEED: f64 = 100.0;
 /// Largest spin accepted (rad/s): ≈ 160 rev/s, past the 65 rev/s of Clanet's launcher and the
 /// ~50 rev/s of the best human throws.
-pub const MAX_SPIN: f64 = 1000.0;
+pub(crate) const MAX_SPIN: f64 = 1000.0;
 /// Tick bounds (s).
 pub const DT_RANGE: (f64, f64) = (1e-6, 0.05);
 /// Most columns a water grid may have (memory and real-time bound).
@@ -844,7 +844,7 @@ fn check_range(field: &str, value: f64, lo: f64, hi: f64, unit: &str) -> Result<
 }
 
 /// What the `version` field may hold, for a message about `found`.
-pub fn schema_expected(found: u32) -> String {
+pub(crate) fn schema_expected(found: u32) -> String {
     format!(
         "expected 1 (omitted fields: the model before the fidelity work) or 2 (omitted fields: \
          the shipped default), found {found}"

@@ -43,7 +43,7 @@ use super::law::{friction_force, pressure_sign, FaceLoad, ForceSum, HydroParams,
 use super::params::ForceLaw;
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (n ≥ 1), nodes ascending.
-pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+pub(crate) fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
     let n = n.max(1);
     let mut out = vec![(0.0, 0.0); n];
     for i in 0..n.div_ceil(2) {

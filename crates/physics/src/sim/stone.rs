@@ -9,10 +9,8 @@ use glam::{DMat3, DQuat, DVec3};
 use std::sync::OnceLock;
 
 use super::kernel::KernelMesh;
-pub use super::mesh::{
-    build_mesh, lens_bands, mass_properties, revolution_layout, MassProperties, Mesh,
-    RevolutionLayout,
-};
+pub use super::mesh::{build_mesh, lens_bands, Mesh};
+pub(crate) use super::mesh::{mass_properties, revolution_layout, RevolutionLayout};
 use super::params::{Attitude, ParamError, Quadrature, Shape, StoneParams};
 use super::smooth::SmoothLens;
 

@@ -36,7 +36,7 @@ use super::params::ForceLaw;
 mod rings;
 
 /// Width of the vector lanes (f64).
-pub const LANES: usize = 4;
+pub(crate) const LANES: usize = 4;
 /// Most faces (or vertices) in a leaf of a hierarchy.
 const LEAF: usize = 16;
 const NO_CHILD: u32 = u32::MAX;
@@ -46,7 +46,7 @@ const NO_CHILD: u32 = u32::MAX;
 /// until it is handled (return false for any value the kernel does not implement).
 ///
 /// [`hydro::evaluate`]: super::hydro::evaluate
-pub fn fast_path_supports(hp: &HydroParams) -> bool {
+pub(crate) fn fast_path_supports(hp: &HydroParams) -> bool {
     // The kernel takes these as they are: the lanes' law mirrors `face_force` for every law
     // (tested bit for bit), ventilation either way, either pressure sign, smooth or
     // faceted spin, with or without buoyancy, on the loaded or on every wetted face.
@@ -264,7 +264,7 @@ impl KernelMesh {
     /// From the centred mesh, its body-frame normals and areas, and its layout when it is a
     /// body of revolution (checked against the mesh; unused when it does not fit);
     /// `of_revolution` and `bounding_radius` are the stone's.
-    pub fn new(
+    pub(crate) fn new(
         mesh: &Mesh,
         normals: &[DVec3],
         areas: &[f64],

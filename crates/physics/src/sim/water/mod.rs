@@ -82,14 +82,14 @@ use crate::sim::params::{Limiter, ParamError, Precision, WaterParams, MAX_WATER_
 
 use storage::{each, Coeffs, Fields, State};
 
-pub use sampling::{EtaPatch, PatchReader};
+pub(crate) use sampling::{EtaPatch, PatchReader};
 
 /// Fraction of the Courant limit at which the automatic water step runs: r = 0.7/√2 ≈ 0.495 with axis
 /// pipes, r = 0.7·√3/2 ≈ 0.606 with diagonals. Below the limit by 30 %, and near the top, where the
 /// leapfrog-like scheme is most accurate (its phase error shrinks as r grows towards the limit).
 pub const COURANT_SAFETY: f64 = 0.7;
 /// Longest automatic water step (s): one 60 Hz frame.
-pub const MAX_STEP: f64 = 1.0 / 60.0;
+pub(crate) const MAX_STEP: f64 = 1.0 / 60.0;
 /// Courant limit cΔt/l of the 4-pipe scheme, 1/√2.
 pub const COURANT_LIMIT_4: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// Courant limit cΔt/l of the isotropic 8-pipe scheme, √3/2.
@@ -97,7 +97,7 @@ pub const COURANT_LIMIT_8: f64 = 0.866_025_403_784_438_6;
 
 /// Half-width (in cells) at or below which [`WaterGrid::deposit_impulse_box`] treats its square as a
 /// point and deposits bilinearly.
-pub const BOX_MIN_HALF: f64 = 1e-6;
+pub(crate) const BOX_MIN_HALF: f64 = 1e-6;
 
 /// Columns below which a step runs on the calling thread (rayon's overhead would dominate).
 const PARALLEL_MIN_COLUMNS: usize = 16_384;

@@ -6,7 +6,7 @@ use super::WaterGrid;
 
 /// η (m) of a rectangle of a grid's columns at one revision of its surface ([`WaterGrid::fill_patch`]).
 #[derive(Debug, Clone, Default)]
-pub struct EtaPatch {
+pub(crate) struct EtaPatch {
     ix0: usize,
     iy0: usize,
     nx: usize,
@@ -26,7 +26,8 @@ impl EtaPatch {
         self.eta[(iy - self.iy0) * self.nx + (ix - self.ix0)]
     }
     /// The columns held: (first ix, first iy, count in x, count in y).
-    pub fn bounds(&self) -> (usize, usize, usize, usize) {
+    #[cfg(test)]
+    pub(crate) fn bounds(&self) -> (usize, usize, usize, usize) {
         (self.ix0, self.iy0, self.nx, self.ny)
     }
 }
@@ -36,7 +37,7 @@ impl EtaPatch {
 /// holds costs a few comparisons and four loads, and gives [`WaterGrid::surface_height`]'s value bit
 /// for bit (the same expressions); any other point is read from the grid as before.
 #[derive(Debug, Clone, Copy)]
-pub struct PatchReader<'a> {
+pub(crate) struct PatchReader<'a> {
     grid: &'a WaterGrid,
     patch: &'a EtaPatch,
     /// The grid's lower corner (its origin).
@@ -138,7 +139,7 @@ impl WaterGrid {
 
     /// [`WaterGrid::surface_height`], reading the columns from `patch` where it holds them and is
     /// current (the same values, so the same result bit for bit), from the grid elsewhere.
-    pub fn surface_height_in(&self, patch: Option<&EtaPatch>, x: f64, y: f64) -> f64 {
+    pub(crate) fn surface_height_in(&self, patch: Option<&EtaPatch>, x: f64, y: f64) -> f64 {
         if !self.contains(x, y) {
             return 0.0;
         }
@@ -168,7 +169,12 @@ impl WaterGrid {
     /// the coordinate, so the columns picked anywhere in the rectangle lie between those picked
     /// at its corners; 0 counts where the rectangle reaches past the grid. `None` when the patch
     /// is stale or does not hold those columns.
-    pub fn max_height_in(&self, patch: &EtaPatch, lo: [f64; 2], hi: [f64; 2]) -> Option<f64> {
+    pub(crate) fn max_height_in(
+        &self,
+        patch: &EtaPatch,
+        lo: [f64; 2],
+        hi: [f64; 2],
+    ) -> Option<f64> {
         if patch.revision != self.revision || !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
             return None;
         }
@@ -190,7 +196,7 @@ impl WaterGrid {
 
     /// Copies η of the columns [x0, x1] × [y0, y1] (clamped to the grid) into `patch`, tagged with
     /// the surface's revision: a stone stepping over a still surface reads it many times a tick.
-    pub fn fill_patch(
+    pub(crate) fn fill_patch(
         &self,
         patch: &mut EtaPatch,
         (x0, x1): (usize, usize),
