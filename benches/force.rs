@@ -16,6 +16,9 @@
 //! prints the real-time factor (simulated / wall seconds, best of the repeats) and the result; `FORCE_MESH=1` prints, for the default throw and the accuracy study's three throws, the
 //! distance and skips per mesh and tolerance against a 192-segment, tolerance-1e-8 run.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::hint::black_box;
 use std::time::Instant;
 

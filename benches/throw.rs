@@ -3,6 +3,9 @@
 //! force evaluations it takes; each preset also with `physics.steps_across_ticks` (its steps free
 //! of the tick, `name+across`), side by side in the same run.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;

@@ -13,6 +13,9 @@
 //! Run: `cargo bench --bench water -- --quick` (needs `[[bench]] name = "water" harness = false`).
 //! `WATER_CASES=sq2000_4pipe_f32` (a substring) keeps only the matching cases, in both parts.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 

@@ -4,6 +4,9 @@
 //! (CI sets it, so a smoke test that could not run never passes there) and otherwise says it
 //! skipped (the picture tests in `render.rs` cover the renderer headless).
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::process::Command;
 
 /// Whether the window tests can run; panics when they must and cannot.

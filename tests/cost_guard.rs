@@ -4,6 +4,8 @@
 //! physics runs behind. Every bound here is a count (steps, force evaluations, ticks), never a
 //! wall-clock time: the model's wall budget is set out of reach so only its count budget acts.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(clippy::field_reassign_with_default)]
 
 use std::time::Duration;

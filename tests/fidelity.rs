@@ -2,6 +2,9 @@
 //! no energy from nowhere under any law or option, no planing "hovercraft" glides in the shipped
 //! presets, record class, and the curve reversing with the spin.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::Path;
 
 use glam::DVec3;

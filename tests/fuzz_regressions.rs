@@ -4,6 +4,9 @@
 //! (`fuzz/harness/*.rs`), so a finding that comes back fails `cargo test` without nightly. The
 //! findings themselves are also written out as plain tests below.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::Path;
 
 use stoneskip::sim::params::{Limiter, Precision};

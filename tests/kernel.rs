@@ -14,6 +14,9 @@
 //! Areas and loads: relative to themselves (Σ|term| for the loads). The clearance and the sink test
 //! must agree exactly.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use glam::{DQuat, DVec3};
 use stoneskip::sim::hydro::{
     evaluate, evaluate_reference, lowest_clearance, lowest_clearance_reference,

@@ -5,6 +5,9 @@
 //! Without any adapter these tests FAIL, unless `STONESKIP_SKIP_GPU_TESTS=1` says to skip them.
 //! Regenerate the reference pictures with `STONESKIP_UPDATE_REFERENCE=1 cargo test --test render`.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::PathBuf;
 
 use glam::Vec3;

@@ -6,6 +6,8 @@
 //! `STONESKIP_SAVE_CHILD` set: `loop` saves two different presets in turn for ever, `once` saves one
 //! and prints the error. Run more kills with `STONESKIP_SAVE_KILLS=2000 cargo test --test save_faults`.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 #![cfg(unix)]
 
 use std::io::{BufRead, BufReader};

@@ -3,6 +3,9 @@
 //! stone gravity keeps decelerating is a graze, listed but not counted. Checked on a swell with wavy
 //! contact, where crests brush the rising stone; on flat water every exit stays a skip.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::Path;
 
 use stoneskip::sim::params::{Preset, Swell};

@@ -10,6 +10,9 @@
 //! the count reached).
 //! A short version runs in the ordinary test suite.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::time::Instant;
 
 use arbitrary::Unstructured;

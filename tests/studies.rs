@@ -4,6 +4,9 @@
 //! eq. 41 clamp changes the water volume and the K limiter does not; every quick study writes its
 //! CSV, PNG and Markdown; the phase maps do not depend on the thread count.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::Path;
 
 use stoneskip::sim::params::{ForceLaw, Integrator, Limiter};

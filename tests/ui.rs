@@ -2,6 +2,9 @@
 //! (`egui_kittest`: AccessKit queries by label, clicks, typed text at a human pace), on the
 //! app's model with no window or GPU. Issue 39.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::Path;
 
 use egui::accesskit::Role;

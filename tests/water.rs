@@ -3,6 +3,9 @@
 //! quoted beside each test, not from a previous run. Grids are the smallest that still measure to the
 //! stated tolerance, so the suite stays fast in the dev profile.
 
+// Test code: a failed unwrap is the failure report (the libraries may not unwrap).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use glam::DVec3;
 use stoneskip::sim::params::{Limiter, Precision, Swell, WaterParams};
 use stoneskip::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
