@@ -9,5 +9,7 @@
 //! - [`preset`]: RON presets (load with file:line:col and the field, atomic save) and the shipped
 //!   presets compiled in.
 
+#![warn(missing_docs)]
+
 pub mod preset;
 pub mod sim;

@@ -11,29 +11,47 @@ use crate::sim::params::{schema_expected, with_schema, ParamError, Preset, LATES
 /// Why a preset could not be read or written. Displayed as one line: `file:line:col: message`.
 #[derive(Debug, thiserror::Error)]
 pub enum PresetError {
+    /// The file could not be read (missing, unreadable) and is not a shipped preset's name.
     #[error(
         "{path}: cannot read the preset: {error} (a file, or a shipped preset's name: {})",
         shipped_names()
     )]
     Read {
+        /// The file that was asked for.
         path: PathBuf,
+        /// The operating system's reason.
         error: std::io::Error,
     },
+    /// The text is not valid RON for a preset (bad syntax, an unknown field, a wrong type).
     #[error("{path}:{line}:{col}: {message}")]
     Syntax {
+        /// The file (or `assets/presets/STEM.ron` for a shipped preset).
         path: PathBuf,
+        /// 1-based line where RON found the error.
         line: usize,
+        /// 1-based column where RON found the error.
         col: usize,
+        /// RON's message, with the expected fields spelled out for an unknown field.
         message: String,
     },
+    /// The text parses but a value is out of range or inconsistent, or the `version` is unknown.
     #[error("{path}:{line}: {error}")]
     Invalid {
+        /// The file (or `assets/presets/STEM.ron` for a shipped preset).
         path: PathBuf,
+        /// Best-effort 1-based line of the offending field (1 when it is not found).
         line: usize,
+        /// The field and what was expected of it.
         error: ParamError,
     },
+    /// Saving failed (an invalid preset, a read-only folder, a full disk); the old file is kept.
     #[error("{path}: cannot save the preset: {message}")]
-    Write { path: PathBuf, message: String },
+    Write {
+        /// The file that was to be written.
+        path: PathBuf,
+        /// Why, in one line.
+        message: String,
+    },
 }
 
 /// The shipped presets (`assets/presets/`), by file stem, as compiled in.

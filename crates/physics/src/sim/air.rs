@@ -46,7 +46,9 @@ pub struct Air {
 /// The air's force (N, world) and torque about the centre of mass (N m, world).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct AirLoad {
+    /// Lift plus drag (N, world).
     pub force: DVec3,
+    /// Pitching moment about the centre of mass (N m, world).
     pub torque: DVec3,
     /// Angle of attack (rad).
     pub alpha: f64,

@@ -109,6 +109,8 @@ impl BodyState {
         }
     }
 
+    /// Whether every component (position, velocity, orientation, angular momentum, memory) is
+    /// finite: no NaN or infinity.
     pub fn is_finite(&self) -> bool {
         self.position.is_finite()
             && self.velocity.is_finite()

@@ -37,10 +37,16 @@ use super::params::{ForceLaw, Hydrostatic, Physics, PressureSign};
 /// The constants of one force evaluation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HydroParams {
+    /// Which law gives the pressure and friction (paper, Bocquet or Rosellini; see the module doc).
     pub law: ForceLaw,
+    /// Lift (pressure) coefficient C_l: the preset's, or the law's default.
     pub lift: f64,
+    /// Friction coefficient C_f: the preset's, or the law's default.
     pub friction: f64,
+    /// Water density ρ (kg/m³).
     pub density: f64,
+    /// Ventilation: a wetted face receding from the water (v_n ≤ 0) sits in the air cavity and
+    /// gets no dynamic pressure nor friction.
     pub ventilated: bool,
     /// Pressure on a receding wetted face opposes its motion (`PressureSign::OpposesMotion`).
     pub opposing: bool,
@@ -54,6 +60,8 @@ pub struct HydroParams {
 }
 
 impl HydroParams {
+    /// The constants of a preset's `physics`: the law, its coefficients (the preset's or the
+    /// law's defaults), ρ, the extension options, and ρ g when `buoyancy` is on.
     pub fn from_physics(p: &Physics) -> Self {
         let (lift, friction) = p.coefficients();
         Self {
@@ -196,9 +204,14 @@ pub struct ForceSum {
 /// Kinematic state needed to evaluate forces.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose {
+    /// Centre of mass (m, world).
     pub position: DVec3,
+    /// Centre-of-mass velocity V (m/s, world).
     pub velocity: DVec3,
+    /// Stone → world rotation of the mesh the water meets (the Résal frame with
+    /// `axial_spin: Resal`).
     pub orientation: DQuat,
+    /// ω (rad/s, world).
     pub angular_velocity: DVec3,
 }
 
@@ -207,6 +220,7 @@ pub struct Pose {
 pub struct FaceLoad {
     /// Wetted centroid (world x, y; m).
     pub x: f64,
+    /// Wetted centroid's world y (m).
     pub y: f64,
     /// F_z of the water on the stone through this face (N; the water gets −F_z).
     pub fz: f64,

@@ -11,7 +11,9 @@ use super::params::Shape;
 /// A closed triangle mesh in the stone's body frame (centre of mass at the origin).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions (m, body frame).
     pub positions: Vec<DVec3>,
+    /// Vertex indices of each triangle, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -28,6 +30,7 @@ impl Mesh {
         }
     }
 
+    /// The three vertices of triangle `i` in winding order (m, body frame).
     pub fn corners(&self, i: usize) -> [DVec3; 3] {
         let [a, b, c] = self.triangles[i];
         [

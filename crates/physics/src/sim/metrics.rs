@@ -8,6 +8,7 @@ use super::Summary;
 /// A throw's shape: how far, how many skips, and how it ended.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ThrowShape {
+    /// Contact episodes counted as skips (the summary's `skips`).
     pub skips: usize,
     /// Horizontal distance from the launch to where the run ended (m).
     pub distance: f64,
@@ -69,7 +70,9 @@ pub struct TailHop {
     pub contact: usize,
     /// Speed (m/s), angle below the horizontal (°) and tilt (°) at that touchdown.
     pub speed_in: f64,
+    /// Angle of the velocity below the horizontal at that touchdown (°).
     pub beta_in: f64,
+    /// Tilt at that touchdown (°; leading edge up > 0, relative to the direction of travel).
     pub tilt_in: f64,
     /// The contact's duration (s).
     pub contact_s: f64,

@@ -59,6 +59,7 @@ use water::{EtaPatch, PatchReader, WaterGrid};
 /// Errors of building or driving a simulation.
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
+    /// The preset is invalid: a value out of range or inconsistent with another.
     #[error(transparent)]
     Param(#[from] ParamError),
 }
@@ -79,6 +80,7 @@ pub enum Outcome {
 }
 
 impl Outcome {
+    /// The snake_case name the JSON summary writes (`sank`, `timeout`, `left_domain`, `diverged`).
     pub fn as_str(self) -> &'static str {
         match self {
             Outcome::Sank => "sank",
@@ -115,7 +117,9 @@ impl Outcome {
 /// has no parameter and does not depend on the tick.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ContactEvent {
+    /// When the first vertex reached the surface (s).
     pub t_start: f64,
+    /// When the last touch ended, or the run did (s); not yet final while the contact is open.
     pub t_end: f64,
     /// Ended with the stone wholly above the surface (with wavy contact: turned upward, see above).
     pub skip: bool,
@@ -124,11 +128,15 @@ pub struct ContactEvent {
     pub graze: bool,
     /// Centre of mass when the episode started.
     pub x: f64,
+    /// y of the centre of mass when the episode started (m).
     pub y: f64,
+    /// Centre-of-mass velocity at the first touch (m/s, world).
     pub v_in: [f64; 3],
+    /// Centre-of-mass velocity when the last touch ended, or the run did (m/s, world).
     pub v_out: [f64; 3],
     /// [tilt, bank, heading] in degrees, relative to the direction of travel.
     pub attitude_in: [f64; 3],
+    /// [tilt, bank, heading] in degrees at the end, as `attitude_in`.
     pub attitude_out: [f64; 3],
     /// Angle of the velocity below the horizontal at the start (degrees).
     pub beta_in: f64,
@@ -146,6 +154,8 @@ pub struct ContactEvent {
     /// Centre of mass (x, y) when the last touch ended (the start of the flight after it).
     #[serde(skip)]
     pub exit_xy: [f64; 2],
+    /// The contact is still going on: the stone has not left the water since its last touch
+    /// and the run has not ended.
     #[serde(skip)]
     pub open: bool,
 }
@@ -166,7 +176,9 @@ pub const TANG_BOUNCE_G: f64 = 3.80;
 /// Water volumes of a run (m³).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct WaterSummary {
+    /// The grid's water volume at the start (m³).
     pub volume_initial: f64,
+    /// The grid's water volume when the summary was taken (m³).
     pub volume_final: f64,
     /// Whether the water was stepped. A headless run whose results do not read the water (wavy
     /// contact off: the stone sees the plane z = 0) leaves it at rest; see
@@ -177,29 +189,45 @@ pub struct WaterSummary {
 /// The result of a run, as `simulate --json` prints it (design.md §7).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
+    /// Version of this JSON format (1).
     pub schema: u32,
+    /// The preset's name.
     pub name: String,
+    /// How the run ended; `None` (JSON `null`) while it goes on or when it was cancelled.
     pub outcome: Option<Outcome>,
     /// Why the run diverged (`outcome` "diverged"); `null` otherwise.
     pub diverged_reason: Option<String>,
+    /// Contact episodes counted as skips ([`ContactEvent::skip`]).
     pub skips: usize,
+    /// Horizontal distance from the launch position to where the stone is (where it ended, once
+    /// the outcome is decided) (m).
     pub distance: f64,
+    /// When the outcome was decided, or the simulated time so far while it is not (s).
     pub final_time: f64,
+    /// Accepted integration steps of the stone.
     pub steps: u64,
+    /// Evaluations of the stone's derivative (the water's forces), the run's cost.
     pub force_evals: u64,
+    /// Every contact episode, in time order (skips and grazes, the last one possibly open).
     pub contacts: Vec<ContactEvent>,
+    /// The water's volumes; `None` (JSON `null`) with the water off.
     pub water: Option<WaterSummary>,
 }
 
 /// One accepted integration step, for trajectories and plots: everything at the step's end.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepSample {
+    /// Simulated time at the step's end (s).
     pub time: f64,
+    /// The stone's state at the step's end.
     pub state: BodyState,
+    /// Angular velocity (world, rad/s); zero with a locked attitude.
     pub angular_velocity: DVec3,
+    /// Some vertex is at or below the water surface.
     pub in_contact: bool,
     /// Wetted area (m²) and the water's force (N) at `state`, under every integrator.
     pub wetted_area: f64,
+    /// The water's force on the stone at `state` (N, world).
     pub force: DVec3,
 }
 
@@ -517,9 +545,12 @@ impl Simulation {
         Ok(sim)
     }
 
+    /// The preset the run was built from, with the physics last given to
+    /// [`Simulation::set_physics`].
     pub fn preset(&self) -> &Preset {
         &self.preset
     }
+    /// The stone: its mesh, mass and inertia.
     pub fn stone(&self) -> &Stone {
         &self.stone
     }
@@ -527,6 +558,7 @@ impl Simulation {
     pub fn air(&self) -> Option<&Air> {
         self.air.as_ref()
     }
+    /// The stone's state at [`Simulation::time`].
     pub fn state(&self) -> &BodyState {
         &self.motion.state
     }
@@ -554,6 +586,7 @@ impl Simulation {
     pub fn time(&self) -> f64 {
         self.motion.time
     }
+    /// How the run ended; `None` while it goes on.
     pub fn outcome(&self) -> Option<Outcome> {
         self.motion.outcome
     }
@@ -567,15 +600,19 @@ impl Simulation {
     pub fn diverged_reason(&self) -> Option<&str> {
         self.motion.diverged.as_deref()
     }
+    /// Whether the outcome is decided.
     pub fn is_finished(&self) -> bool {
         self.motion.outcome.is_some()
     }
+    /// The contact episodes so far, in time order; the last may still be open.
     pub fn contacts(&self) -> &[ContactEvent] {
         &self.motion.contacts
     }
+    /// Whether some vertex is at or below the water surface now (the last accepted step's end).
     pub fn in_contact(&self) -> bool {
         self.motion.in_contact
     }
+    /// How many contact episodes so far are skips ([`ContactEvent::skip`]).
     pub fn skips(&self) -> usize {
         self.motion.contacts.iter().filter(|c| c.skip).count()
     }
@@ -583,6 +620,7 @@ impl Simulation {
     pub fn last_force(&self) -> ForceSum {
         self.motion.last_force
     }
+    /// The column-and-pipe water; `None` with the water off.
     pub fn water(&self) -> Option<&WaterGrid> {
         self.water.as_ref()
     }
@@ -590,6 +628,7 @@ impl Simulation {
     pub fn cost(&self) -> (u64, u64) {
         (self.motion.steps, self.motion.force_evals)
     }
+    /// The centre of mass at launch (m, world): where [`Simulation::distance`] is measured from.
     pub fn launch_position(&self) -> DVec3 {
         self.launch_position
     }

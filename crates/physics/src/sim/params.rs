@@ -17,6 +17,8 @@ pub struct ParamError {
 }
 
 impl ParamError {
+    /// The error for `field` (a dotted path such as `stone.mass`), saying what was wrong and what
+    /// was expected.
     pub fn new(field: impl Into<String>, message: impl Into<String>) -> Self {
         Self {
             field: field.into(),
@@ -34,11 +36,18 @@ impl ParamError {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default = "Preset::omitted", deny_unknown_fields)]
 pub struct Preset {
+    /// The schema: 1 (omitted fields: the model before the fidelity work) or 2 (omitted fields:
+    /// the shipped default).
     pub version: u32,
+    /// The throw's name, as the summary reports it.
     pub name: String,
+    /// The stone's shape, mass and mesh.
     pub stone: StoneParams,
+    /// The throw's initial position, velocity, attitude and spin.
     pub launch: Launch,
+    /// The physical constants, the force law and the numerics.
     pub physics: Physics,
+    /// The column-and-pipe water.
     pub water: WaterParams,
 }
 
@@ -121,13 +130,26 @@ impl Preset {
 #[serde(deny_unknown_fields)]
 pub enum Shape {
     /// Flat-faced cylinder: the literature's disc.
-    Disk { radius: f64, thickness: f64 },
+    Disk {
+        /// m
+        radius: f64,
+        /// Height of the cylinder along the axis (m).
+        thickness: f64,
+    },
     /// Ellipsoid of revolution with semi-axes (radius, radius, thickness/2): the paper's stone.
-    Lens { radius: f64, thickness: f64 },
+    Lens {
+        /// Equatorial semi-axis (m).
+        radius: f64,
+        /// Twice the polar semi-axis: the thickness along the axis (m).
+        thickness: f64,
+    },
     /// Thin box: Bocquet's square plate.
     Plate {
+        /// Along body x (m).
         length: f64,
+        /// Along body y (m).
         width: f64,
+        /// Along body z (m).
         thickness: f64,
     },
 }
@@ -147,6 +169,7 @@ impl Shape {
         }
     }
 
+    /// Thickness along the axis (body z) (m), whatever the shape.
     pub fn thickness(&self) -> f64 {
         match *self {
             Shape::Disk { thickness, .. }
@@ -155,6 +178,7 @@ impl Shape {
         }
     }
 
+    /// The variant's name as a preset writes it: `Disk`, `Lens` or `Plate`.
     pub fn kind_name(&self) -> &'static str {
         match self {
             Shape::Disk { .. } => "Disk",
@@ -164,9 +188,11 @@ impl Shape {
     }
 }
 
+/// The preset's stone (`stone`): shape, mass, mesh resolution and quadrature.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default = "StoneParams::omitted", deny_unknown_fields)]
 pub struct StoneParams {
+    /// Shape and dimensions.
     pub shape: Shape,
     /// kg
     pub mass: f64,
@@ -198,10 +224,16 @@ pub enum Quadrature {
     /// `meridian` nodes along the wet latitudes; around each latitude the waterline is exact and
     /// the pressure integrated in closed form, and `around` Gauss nodes on each piece of the arc
     /// take the friction. Flat water only (no wavy contact), a lens only, its axial spin smooth.
-    Smooth { meridian: u32, around: u32 },
+    Smooth {
+        /// Gauss–Legendre nodes along the wet latitudes (2–64).
+        meridian: u32,
+        /// Gauss nodes on each piece of a latitude's wet arc, for the friction (2–64).
+        around: u32,
+    },
 }
 
 impl Quadrature {
+    /// Whether this is `Faces` (the mesh's triangles, the paper's sum).
     pub fn is_faces(&self) -> bool {
         *self == Quadrature::Faces
     }
@@ -234,8 +266,11 @@ impl StoneParams {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Attitude {
+    /// Pitch about body y, the leading (+x) edge up (°): the Ry(−tilt).
     pub tilt_deg: f64,
+    /// Roll about the horizontal heading direction (°): the Rx(bank).
     pub bank_deg: f64,
+    /// Yaw about the vertical, degrees from +x towards +y: the Rz(heading).
     pub heading_deg: f64,
 }
 
@@ -249,6 +284,8 @@ impl Default for Attitude {
     }
 }
 
+/// The throw's initial state (`launch`); positions and velocities in the world frame (z up, the
+/// water at rest at z = 0).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default = "Launch::omitted", deny_unknown_fields)]
 pub struct Launch {
@@ -256,6 +293,7 @@ pub struct Launch {
     pub position: [f64; 3],
     /// m/s.
     pub velocity: [f64; 3],
+    /// The stone's orientation at release.
     pub attitude: Attitude,
     /// rad/s about the stone's axis.
     pub spin: f64,
@@ -281,6 +319,7 @@ impl Launch {
     }
 }
 
+/// The water's force law on a wetted face (`physics.force_law`; `law.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum ForceLaw {
     /// Eqs. 11–24 as printed: ½ C_l ρ v_n² S normal, ½ C_f ρ |V_t|² S tangential.
@@ -292,6 +331,7 @@ pub enum ForceLaw {
 }
 
 impl ForceLaw {
+    /// Every law, in the order the app and the studies list them.
     pub const ALL: [ForceLaw; 3] = [ForceLaw::Rosellini, ForceLaw::Paper, ForceLaw::Bocquet];
 
     /// The law's default (C_l, C_f) (design.md §4).
@@ -304,17 +344,21 @@ impl ForceLaw {
     }
 }
 
+/// How the stone's motion is stepped (`physics.integrator`; `integrate.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Integrator {
     /// Eqs. 30–38: forces at the start, velocity by Euler, position by the trapezoid.
     Paper,
+    /// Semi-implicit Euler: velocity first, then position with the new velocity (symplectic).
     SymplecticEuler,
+    /// Classical fourth-order Runge–Kutta (four force evaluations a step).
     Rk4,
     /// Exact flight, contact entry by root finding, error-controlled steps in contact.
     Adaptive,
 }
 
 impl Integrator {
+    /// Every integrator, in the order the app and the studies list them.
     pub const ALL: [Integrator; 4] = [
         Integrator::Paper,
         Integrator::SymplecticEuler,
@@ -323,6 +367,7 @@ impl Integrator {
     ];
 }
 
+/// Whether the stone's attitude may change (`physics.rotation`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Rotation {
     /// Attitude held fixed (the paper; the high-spin limit).
@@ -374,8 +419,11 @@ impl TryFrom<PressureCentreName> for PressureCentre {
      in docs/studies/retired.md"
 )]
 pub struct Retired {
+    /// Dotted path of the field, e.g. `physics.axial_spin`.
     pub field: &'static str,
+    /// The retired value as a preset writes it.
     pub value: &'static str,
+    /// Why it was retired and what to write instead.
     pub why: &'static str,
 }
 
@@ -460,6 +508,8 @@ pub enum Hydrostatic {
     WettedFaces,
 }
 
+/// The preset's physics (`physics`): constants, the water's force law and its options, the air,
+/// and the numerics of the stone's motion.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default = "Physics::omitted", deny_unknown_fields)]
 pub struct Physics {
@@ -467,8 +517,9 @@ pub struct Physics {
     pub gravity: f64,
     /// kg/m³
     pub water_density: f64,
+    /// The water's force law on a wetted face.
     pub force_law: ForceLaw,
-    /// Omitted: the law's default.
+    /// C_l. Omitted: the law's default.
     #[serde(
         deserialize_with = "de_plain_option",
         serialize_with = "ser_plain_option",
@@ -480,12 +531,15 @@ pub struct Physics {
         serialize_with = "ser_plain_option",
         skip_serializing_if = "Option::is_none"
     )]
+    /// C_f. Omitted: the law's default.
     pub friction_coefficient: Option<f64>,
     /// Pressure and friction only on faces advancing into the water.
     pub ventilated: bool,
+    /// How the stone's motion is stepped.
     pub integrator: Integrator,
     /// Adaptive's relative error per step.
     pub tolerance: f64,
+    /// Whether the attitude is held (the paper) or free.
     pub rotation: Rotation,
     /// Where the pressure acts along the flow (torque only).
     pub pressure_centre: PressureCentre,
@@ -563,6 +617,7 @@ pub enum LagLength {
 pub struct MemoryParams {
     /// λ (with L = s_g) or κ (with L = R), dimensionless.
     pub lag: f64,
+    /// Which length L the lag scales: the wetted length s_g or the radius R.
     pub length: LagLength,
 }
 
@@ -618,6 +673,7 @@ impl Physics {
     }
 }
 
+/// How the water grid keeps every column's volume non-negative (eq. 40; `water.limiter`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Limiter {
     /// Mei et al. 2007's K factor per source column: exact conservation, V ≥ 0.
@@ -637,6 +693,8 @@ pub enum Precision {
     F64,
 }
 
+/// A swell the water starts with (`water.swell`): a travelling wave η = A sin(k n·x) over the
+/// whole grid, k = 2π/wavelength, n along `heading_deg`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Swell {
@@ -658,9 +716,13 @@ impl Default for Swell {
     }
 }
 
+/// The preset's water (`water`): the lake's extent and the column-and-pipe grid's resolution,
+/// depth and numerics (`water/`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default = "WaterParams::omitted", deny_unknown_fields)]
 pub struct WaterParams {
+    /// Simulate the lake's columns; false: no grid, the stone meets the plane z = 0 and the run
+    /// leaves the domain 1 km from the launch.
     pub enabled: bool,
     /// Contact and clipping against the water grid's height instead of z = 0.
     pub wavy_contact: bool,
@@ -680,10 +742,13 @@ pub struct WaterParams {
     pub depth: f64,
     /// 1/s
     pub damping: f64,
+    /// Add the four diagonal pipes to the four axis pipes (the isotropic 9-point stencil).
     pub diagonal_pipes: bool,
+    /// How a column is kept from a negative volume (eq. 40).
     pub limiter: Limiter,
     /// Storage precision of depths and flows.
     pub precision: Precision,
+    /// A swell the water starts with; `None`: still water.
     pub swell: Option<Swell>,
     /// What the stone touches with wavy contact: the columns (the only value since the spectral
     /// near field was retired; docs/studies/retired.md).
@@ -902,6 +967,8 @@ impl Preset {
 }
 
 impl StoneParams {
+    /// Checks the shape's dimensions, the mass, the mesh resolution and the quadrature; the first
+    /// problem found is returned.
     pub fn validate(&self) -> Result<(), ParamError> {
         match self.shape {
             Shape::Disk { radius, thickness } | Shape::Lens { radius, thickness } => {
@@ -966,6 +1033,8 @@ impl StoneParams {
 }
 
 impl Launch {
+    /// Checks the position (a height in [−0.5, 100] m), the speed, the attitude and the spin; the
+    /// first problem found is returned.
     pub fn validate(&self) -> Result<(), ParamError> {
         for (i, axis) in ["x", "y", "z"].iter().enumerate() {
             check_range(
@@ -1034,6 +1103,8 @@ impl Launch {
 }
 
 impl Physics {
+    /// Checks the constants, the coefficients, the air, the memory's lag, the tick and the time
+    /// limit; the first problem found is returned.
     pub fn validate(&self) -> Result<(), ParamError> {
         check_range("physics.gravity", self.gravity, 0.0, 100.0, "m/s²")?;
         check_positive(
@@ -1072,6 +1143,9 @@ impl Physics {
 }
 
 impl WaterParams {
+    /// Checks the lake's size, origin, cell, depth, damping, step and swell, and that an enabled
+    /// grid has between 4 cells across and [`MAX_WATER_COLUMNS`] columns; the first problem found
+    /// is returned.
     pub fn validate(&self) -> Result<(), ParamError> {
         check_positive("water.size.x", self.size[0], 2000.0, "m")?;
         check_positive("water.size.y", self.size[1], 2000.0, "m")?;

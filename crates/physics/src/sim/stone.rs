@@ -28,17 +28,23 @@ impl PartialEq for LazyKernel {
 /// The rigid stone: mesh about its centre of mass, mass and inertia.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stone {
+    /// The preset's shape and dimensions.
     pub shape: Shape,
+    /// kg
     pub mass: f64,
+    /// The closed triangle mesh, centred on the centre of mass (body frame).
     pub mesh: Mesh,
     /// Body-frame inertia about the centre of mass (kg m²).
     pub inertia: DMat3,
+    /// Inverse of `inertia` (1/(kg m²), body frame).
     pub inv_inertia: DMat3,
+    /// m³: the mesh's, or the smooth lens's with `stone.quadrature: Smooth`.
     pub volume: f64,
     /// Radius of the sphere about the centre of mass that holds every vertex.
     pub bounding_radius: f64,
     /// Body-frame outward unit normals and areas of the triangles.
     pub normals: Vec<DVec3>,
+    /// Triangle areas (m²), in the order of the mesh's triangles.
     pub areas: Vec<f64>,
     /// How the mesh is laid out in rings, if it is (what the force kernel is built with).
     layout: Option<RevolutionLayout>,
@@ -51,6 +57,9 @@ pub struct Stone {
 }
 
 impl Stone {
+    /// Builds the stone from its parameters (validated here): the mesh, moved so the centre of
+    /// mass is at the origin, and its mass properties (the smooth lens's own with
+    /// `quadrature: Smooth`); an error for a shape of no volume or a singular inertia.
     pub fn new(params: &StoneParams) -> Result<Self, ParamError> {
         params.validate()?;
         let mut mesh = build_mesh(&params.shape, params.segments, params.bands);

@@ -110,6 +110,7 @@ const MIN_CHUNK_ROWS: usize = 16;
 pub struct WaterConfig {
     /// Columns along x and y (at least 1 each).
     pub nx: usize,
+    /// Columns along y.
     pub ny: usize,
     /// Cell size l (m).
     pub cell: f64,
@@ -121,7 +122,11 @@ pub struct WaterConfig {
     pub density: f64,
     /// Flow damping γ (1/s): Q ← e^{−γΔt} Q each step.
     pub damping: f64,
+    /// Add the four diagonal pipes to the four axis pipes (the isotropic 9-point stencil, pipe
+    /// areas A_axis = ⅔Hl, A_diag = (√2/6)Hl).
     pub diagonal_pipes: bool,
+    /// How a column is kept from a negative volume (eq. 40): Mei et al. 2007's K factor or the
+    /// paper's eq. 41 clamp.
     pub limiter: Limiter,
     /// World position of the grid's −x, −y corner (m).
     pub origin: [f64; 2],
@@ -377,9 +382,11 @@ impl WaterGrid {
 
     // --- geometry and clock -------------------------------------------------------------------
 
+    /// Columns along x.
     pub fn nx(&self) -> usize {
         self.cfg.nx
     }
+    /// Columns along y.
     pub fn ny(&self) -> usize {
         self.cfg.ny
     }
@@ -395,6 +402,7 @@ impl WaterGrid {
     pub fn rest_depth(&self) -> f64 {
         self.cfg.depth
     }
+    /// The grid's defining numbers (shape, cell, depth, constants, limiter, step).
     pub fn config(&self) -> &WaterConfig {
         &self.cfg
     }

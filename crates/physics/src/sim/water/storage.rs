@@ -294,6 +294,8 @@ impl<T: Real> Fields<T> {
 }
 
 impl WaterGrid {
+    /// Sets the water depth of column (ix, iy) (m, clamped to ≥ 0) and makes the whole grid
+    /// active; a column outside the grid or a non-finite depth is ignored.
     pub fn set_depth(&mut self, ix: usize, iy: usize, depth: f64) {
         if ix < self.cfg.nx && iy < self.cfg.ny && depth.is_finite() {
             let i = self.at(ix, iy, 0);
