@@ -540,7 +540,8 @@ fn mesh_rows_ui(ui: &mut Ui, stone: &mut StoneParams, marks: &Marks) -> bool {
             "Forces on",
             "Where the force law is summed: every wetted triangle of the mesh, or the smooth lens \
              the mesh stands for (Gauss nodes along the wet latitudes × friction nodes around each \
-             arc, the pressure exact around it; flat water only, so wavy contact must be off)",
+             arc, the pressure exact around it; over flat water: with wavy contact the triangles carry \
+             the load)",
             |ui| quadrature_ui(ui, stone),
         );
     }

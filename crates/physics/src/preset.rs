@@ -585,13 +585,16 @@ mod tests {
         assert!(page.contains("research-variants-before-retirement"));
     }
 
-    /// `physics.steps_across_ticks` (numerics): omitted it is false, and it is written only when
-    /// true, so a preset saved without it reads as before; when named it round-trips.
+    /// `physics.steps_across_ticks` (numerics): omitted in a version-1 preset it is false; it is
+    /// always written (the shipped default sets it, so a version-2 file needs `false` spelled
+    /// out); when named it round-trips.
     #[test]
-    fn steps_across_ticks_is_saved_only_when_set() {
+    fn steps_across_ticks_round_trips() {
         let p = Preset::version_1();
         assert!(!p.physics.steps_across_ticks);
-        assert!(!to_ron_string(&p).unwrap().contains("steps_across_ticks"));
+        assert!(to_ron_string(&p)
+            .unwrap()
+            .contains("steps_across_ticks: false"));
         let text = "(\n  physics: (steps_across_ticks: true),\n)";
         let q = parse(text, Path::new("across.ron")).unwrap();
         assert!(q.physics.steps_across_ticks);
@@ -600,13 +603,14 @@ mod tests {
         assert_eq!(parse(&written, Path::new("rt.ron")).unwrap(), q);
     }
 
-    /// `stone.quadrature` (numerics): omitted it is `Faces`, written only when `Smooth`; a smooth
-    /// lens is refused, with the field named, on wavy water, for a disk, or with a faceted spin.
+    /// `stone.quadrature` (numerics): omitted in a version-1 preset it is `Faces`; it is always
+    /// written (the shipped lenses are smooth); a smooth lens is refused, with the field named,
+    /// for a disk or with a faceted spin.
     #[test]
-    fn quadrature_is_saved_only_when_smooth_and_refused_where_it_cannot_apply() {
+    fn quadrature_round_trips_and_is_refused_where_it_cannot_apply() {
         let p = Preset::version_1();
         assert!(p.stone.quadrature.is_faces());
-        assert!(!to_ron_string(&p).unwrap().contains("quadrature"));
+        assert!(to_ron_string(&p).unwrap().contains("quadrature: Faces"));
         let flat = "(\n  stone: (quadrature: Smooth(meridian: 16, around: 6)),\n  water: (wavy_contact: false),\n)";
         let q = parse(flat, Path::new("smooth.ron")).unwrap();
         assert_eq!(
@@ -624,10 +628,10 @@ mod tests {
             assert!(e.starts_with("bad.ron:") && e.contains(field), "{e}");
         };
         let smooth = "quadrature: Smooth(meridian: 16, around: 6)";
-        refused(
-            &format!("(\n  stone: ({smooth}),\n  water: (enabled: true, wavy_contact: true),\n)"),
-            "water.wavy_contact",
-        );
+        // Wavy contact is allowed: there the mesh's faces carry the load.
+        let wavy =
+            format!("(\n  stone: ({smooth}),\n  water: (enabled: true, wavy_contact: true),\n)");
+        assert!(parse(&wavy, Path::new("wavy.ron")).is_ok());
         refused(
             &format!("(\n  stone: (shape: Disk(radius: 0.05, thickness: 0.01), {smooth}),\n)"),
             "stone.quadrature",

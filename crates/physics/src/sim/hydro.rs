@@ -500,6 +500,55 @@ mod tests {
         assert!(smooth.torque.dot(axis).abs() < 1e-12 * scale * 0.05);
     }
 
+    /// A smooth lens meets flat water with its ellipsoid and wavy water with its mesh: there its
+    /// forces are the faceted stone's, bit for bit (the shipped lenses are smooth, and wavy
+    /// contact is an option of the Water panel).
+    #[test]
+    fn a_smooth_lens_on_wavy_water_is_loaded_through_its_faces() {
+        struct Tilted;
+        impl Surface for Tilted {
+            fn height(&self, x: f64, y: f64) -> f64 {
+                0.002 * (3.0 * x).sin() + 0.001 * y
+            }
+            fn max_height(&self) -> f64 {
+                0.01
+            }
+        }
+        let lens = |quadrature| {
+            Stone::new(&crate::sim::params::StoneParams {
+                shape: Shape::Lens {
+                    radius: 0.05,
+                    thickness: 0.012,
+                },
+                mass: 0.1,
+                segments: 32,
+                bands: None,
+                quadrature,
+            })
+            .unwrap()
+        };
+        let smooth = lens(crate::sim::params::Quadrature::Smooth {
+            meridian: 12,
+            around: 2,
+        });
+        let faces = lens(crate::sim::params::Quadrature::Faces);
+        let pose = Pose {
+            position: DVec3::new(0.1, 0.0, 0.001),
+            velocity: DVec3::new(8.0, 0.0, -0.5),
+            orientation: DQuat::from_rotation_y(-0.35),
+            angular_velocity: DVec3::new(0.0, 0.0, 80.0),
+        };
+        let h = hp(ForceLaw::Rosellini, true);
+        let run = |stone: &Stone, surface: &dyn Surface| {
+            evaluate(stone, &h, &pose, surface, &mut Scratch::default(), false)
+        };
+        let wavy = run(&smooth, &Tilted);
+        assert!(wavy.in_contact && wavy.force.z > 0.0, "{wavy:?}");
+        assert_eq!(wavy, run(&faces, &Tilted));
+        // On flat water the ellipsoid, not the facets, carries the load.
+        assert_ne!(run(&smooth, &FlatSurface), run(&faces, &FlatSurface));
+    }
+
     #[test]
     fn flat_face_rosellini_is_half_rho_u2_sin() {
         // Bottom face of a plate tilted by α, moving at U with angle β below the horizontal:

@@ -208,9 +208,8 @@ pub struct StoneParams {
     )]
     pub bands: Option<u32>,
     /// How the water's forces are summed over a lens (numerics: the same law either way).
-    /// Omitted: `Faces`, every wetted triangle of the mesh (the paper), and it is written only
-    /// when `Smooth`.
-    #[serde(skip_serializing_if = "Quadrature::is_faces")]
+    /// Omitted in a `version: 1` preset: `Faces`, every wetted triangle of the mesh (the paper).
+    /// Always saved, since a `version: 2` preset that omits it has the shipped lens's `Smooth`.
     pub quadrature: Quadrature,
 }
 
@@ -561,9 +560,8 @@ pub struct Physics {
     /// Numerics, not physics: `Adaptive`'s contact steps may end past the tick's end when no water
     /// takes the stone's loads (water off, or a headless run that leaves it at rest), so the tick
     /// no longer caps the step; the stone then runs up to one step ahead of the tick. Omitted:
-    /// false, every step inside its tick (docs/studies/kernel.md, "What sets the glide's step").
-    /// Saved only when true, so a preset that never set it reads as it did.
-    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    /// false in a `version: 1` preset, every step inside its tick (docs/studies/kernel.md, "What
+    /// sets the glide's step"). Always saved, since the shipped default sets it.
     pub steps_across_ticks: bool,
     /// The wetted-extent memory (`memory.rs`): the waterline the faces are clipped against lags
     /// the geometric one with τ = lag · L/|U|. `None`: the quasi-steady contact of the paper (and
@@ -939,7 +937,8 @@ impl Preset {
         self.check_quadrature()
     }
 
-    /// `stone.quadrature: Smooth` integrates over a smooth body on flat water.
+    /// `stone.quadrature: Smooth` integrates over a smooth body of revolution, so its spin must be
+    /// smooth too. (Over wavy water the mesh's faces carry the load: `hydro::evaluate`.)
     pub fn check_quadrature(&self) -> Result<(), ParamError> {
         if self.stone.quadrature.is_faces() {
             return Ok(());
@@ -950,12 +949,6 @@ impl Preset {
                 format!("{why} with stone.quadrature: Smooth"),
             ))
         };
-        if self.water.enabled && self.water.wavy_contact {
-            return refuse(
-                "water.wavy_contact",
-                "expected false (the smooth quadrature meets flat water only)",
-            );
-        }
         if self.physics.rotation == Rotation::Free && !self.physics.axial_spin.is_smooth() {
             return refuse(
                 "physics.axial_spin",
