@@ -20,7 +20,7 @@
 //!
 //! Flight with air is integrated by kick–drift–kick splitting (Strang): half a kick of the air's
 //! force and torque, the exact force-free flight (parabola and torque-free precession), half a
-//! kick, in substeps of at most [`AIR_SUBSTEP`]; second order, and exact flight when the air is off.
+//! kick, in substeps of at most `AIR_SUBSTEP`; second order, and exact flight when the air is off.
 
 use glam::{DQuat, DVec3};
 

@@ -1,5 +1,5 @@
 //! The water's forces on the stone summed over its wetted triangles (paper eqs. 24–26): the
-//! reference sum `evaluate_reference` (each face clipped and loaded by [`face_force`], the law in
+//! reference sum `evaluate_reference` (each face clipped and loaded by `face_force`, the law in
 //! `law.rs`), and `evaluate`, which hands the work to the fast kernel (`kernel`) or, for a smooth
 //! lens over flat water, to the smooth quadrature (`smooth`); the clearance and the sink test
 //! likewise.

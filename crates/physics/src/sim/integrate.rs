@@ -11,7 +11,7 @@
 //! model); with `Free` Euler's equations turn the torque into spin, precession and pitch.
 //! With `axial_spin: Resal` a free disk or lens meets the water in a Résal frame, as gyroscope
 //! theory calls a frame that follows the symmetry axis but not the spin about it, its azimuth
-//! held to the flow ([`mesh_orientation`]). That is a choice of where the facets of the smooth
+//! held to the flow (`mesh_orientation`). That is a choice of where the facets of the smooth
 //! body's mesh lie, not new physics: the body's dynamics (axisymmetric inertia) do not change.
 
 use glam::{DMat3, DQuat, DVec3, DVec4};
@@ -281,7 +281,7 @@ pub fn flight(stone: &Stone, rotation: Rotation, gravity: f64, s: &BodyState, t:
 }
 
 /// Flight over `t` (positive or negative) with the air's lift, drag and pitching moment
-/// (kick–drift–kick around the exact [`flight`], substeps of at most [`AIR_SUBSTEP`]; see
+/// (kick–drift–kick around the exact [`flight`], substeps of at most `AIR_SUBSTEP`; see
 /// `air.rs`), or the exact force-free flight without air.
 pub fn fly(
     stone: &Stone,

@@ -32,7 +32,7 @@ impl ParamError {
 /// A field a preset does not name takes the value of its schema's base (design.md §3): in a
 /// `version: 1` file the model before the fidelity work ([`Preset::version_1`]), in a
 /// `version: 2` file the shipped default ([`Preset::default`], `assets/presets/default.ron` as
-/// compiled in). A parse states its schema with [`with_schema`].
+/// compiled in). A parse states its schema with `with_schema`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default = "Preset::omitted", deny_unknown_fields)]
 pub struct Preset {

@@ -17,14 +17,13 @@
 //!   exactly what the reference versions return (they evaluate the same floating-point
 //!   expressions for the candidates, and the bounds carry a margin far above rounding).
 //!
-//! The law itself is mirrored in lanes ([`lane_law`], the same operations in the same order as
-//! [`hydro::face_force`], so each face's force is bit-identical to it); [`fast_path_supports`]
+//! The law itself is mirrored in lanes (`lane_law`, the same operations in the same order as
+//! `law::face_force`, so each face's force is bit-identical to it); `fast_path_supports`
 //! names every [`HydroParams`] field, so a new option does not compile until it is either
 //! implemented here or sent to the reference. Lanes are four wide whatever the machine, and no
 //! fused multiply-add is used, so the AVX2 and the plain x86-64 builds give identical bits.
 //!
 //! [`hydro::evaluate_reference`]: super::hydro::evaluate_reference
-//! [`hydro::face_force`]: super::hydro::face_force
 
 use glam::{DMat3, DQuat, DVec3};
 
@@ -1642,7 +1641,7 @@ fn classify<const LAW: u8, const ROT: bool>(
 }
 
 /// Forces and torque of the water on the stone: the fast path of [`super::hydro::evaluate`]
-/// (callers check [`fast_path_supports`] first).
+/// (callers check `fast_path_supports` first).
 pub fn evaluate(
     km: &KernelMesh,
     hp: &HydroParams,

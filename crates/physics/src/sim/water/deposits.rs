@@ -42,7 +42,7 @@ impl WaterGrid {
     /// to rounding and the pressure does not depend on the cell size once the cells are smaller than
     /// the square. Parts beyond the grid's edge go to the edge columns, so nothing is lost while the
     /// centre is over the grid. Ignored if the centre is outside the grid, or the impulse or `half` is
-    /// not finite; a square of `half` ≤ [`BOX_MIN_HALF`]·l (a point) is deposited bilinearly, as by
+    /// not finite; a square of `half` ≤ `BOX_MIN_HALF`·l (a point) is deposited bilinearly, as by
     /// [`Self::deposit_impulse`].
     pub fn deposit_impulse_box(&mut self, x: f64, y: f64, half: f64, impulse: f64) {
         if !impulse.is_finite() || !half.is_finite() || !self.contains(x, y) {
@@ -135,7 +135,7 @@ impl WaterGrid {
 
     /// Horizontal impulse `j` (N·s on the water along +x and +y) spread over the square footprint
     /// [x − half, x + half] × [y − half, y + half] as [`Self::deposit_impulse_box`] spreads a vertical
-    /// one (bilinearly when `half` ≤ [`BOX_MIN_HALF`]·l). At the next water step each column's part
+    /// one (bilinearly when `half` ≤ `BOX_MIN_HALF`·l). At the next water step each column's part
     /// goes into the momentum of its axis pipes (see the module documentation). Ignored outside the
     /// grid or if not finite.
     pub fn deposit_momentum_box(&mut self, x: f64, y: f64, half: f64, j: [f64; 2]) {

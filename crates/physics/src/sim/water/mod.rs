@@ -26,11 +26,11 @@
 //!   Neumann boundary of the isotropic 9-point stencil): the method of images holds for both stencils.
 //! * **Stability.** The grid runs on its own fixed clock Δt_w, chosen at construction at
 //!   [`COURANT_SAFETY`] of the Courant limit r = cΔt/l ≤ 1/√2 (4 pipes) or √3/2 (8 pipes), capped at
-//!   [`MAX_STEP`]. No accepted parameter can make it unstable: the linear scheme is stable below the
+//!   `MAX_STEP`. No accepted parameter can make it unstable: the linear scheme is stable below the
 //!   limit whatever H, l and g are, K only scales flows down, the damping only removes momentum, and
 //!   the external pressure is a bounded forcing.
 //!
-//! * **Only where water moves** ([`Active`]). Still water on the flat bed stays still bit for bit
+//! * **Only where water moves** (`Active`). Still water on the flat bed stays still bit for bit
 //!   (zero flows from equal surfaces, K = 1, depth + 0), so a step computes only the window of
 //!   columns that may move, grown by the stencil's one column and by the columns the stone's
 //!   impulses reach; the rest keep their values. A bed, a swell or a depth set by hand make the
