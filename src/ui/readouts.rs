@@ -32,7 +32,7 @@ impl PlotSeries {
         *self = Self::default();
     }
 
-    /// The four series as drawn over [0, end] in `buckets` columns (see [`decimate`]).
+    /// The four series as drawn over [0, end] in `buckets` columns (see `decimate`).
     pub fn decimated(&self, buckets: usize, end: f64) -> [Vec<PlotPoint>; 4] {
         let x1 = end.max(0.1);
         [
@@ -154,7 +154,7 @@ pub enum ContactKind {
     Graze,
     /// Did not end in the air, after a short contact.
     Sank,
-    /// Did not end in the air, after sliding farther than [`GLIDE_DIAMETERS`] stone diameters: a
+    /// Did not end in the air, after sliding farther than `GLIDE_DIAMETERS` stone diameters: a
     /// planing slide, not a bounce.
     Glide,
 }

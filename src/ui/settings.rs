@@ -57,7 +57,7 @@ fn grid(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui) -> bool) -> bool {
 }
 
 /// The values that differ from the loaded preset, for marking their rows: each difference's field,
-/// named as `app::edits` names it ("Speed", "gravity", "shape.Lens.radius", "size[0]",
+/// named as `app::edits` names it ("Speed", "gravity", "shape.Lens.radius", "size\[0\]",
 /// "swell.heading deg"), with the preset's value as shown.
 #[derive(Debug, Default)]
 pub struct Marks {
