@@ -1,7 +1,9 @@
 //! Whole throws without water: the cost of the stone's physics alone. Prints, for each preset,
 //! how many times faster than real time a throw runs (simulated seconds / wall seconds) and the
 //! force evaluations it takes; each preset also with `physics.steps_across_ticks` (its steps free
-//! of the tick, `name+across`), side by side in the same run.
+//! of the tick, `name+across`), and each shipped lens on its 64-segment facets at the tolerance it
+//! shipped with before issue 41 (`name+faces`: the reference path), side by side in the same run,
+//! with the shipped path's speed as a ratio to it.
 
 // Test code: a failed unwrap is the failure report (the libraries may not unwrap).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -11,7 +13,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use stoneskip::sim::params::Preset;
+use stoneskip::sim::params::{Preset, Quadrature};
 use stoneskip::sim::simulate;
 
 fn preset(name: &str) -> Preset {
@@ -34,17 +36,28 @@ fn throws(c: &mut Criterion) {
         let plain = preset(name);
         let mut across = plain.clone();
         across.physics.steps_across_ticks = true;
-        measure(&mut group, name, &plain);
+        let shipped = measure(&mut group, name, &plain);
         measure(&mut group, &format!("{name}+across"), &across);
+        if !plain.stone.quadrature.is_faces() {
+            let mut faces = plain.clone();
+            faces.stone.quadrature = Quadrature::Faces;
+            faces.physics.tolerance = 1e-6;
+            let reference = measure(&mut group, &format!("{name}+faces"), &faces);
+            println!(
+                "{name}: the smooth lens runs {:.2}x the facets' speed",
+                shipped / reference
+            );
+        }
     }
     group.finish();
 }
 
+/// Benchmarks `p` under `name` and returns its real-time ratio (simulated over wall seconds).
 fn measure(
     group: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>,
     name: &str,
     p: &Preset,
-) {
+) -> f64 {
     // The real-time ratio, measured once outside criterion so it can be printed.
     let reps = 5;
     let start = Instant::now();
@@ -64,6 +77,7 @@ fn measure(
         wall * 1e6 / s.force_evals.max(1) as f64
     );
     group.bench_function(name, |b| b.iter(|| simulate(black_box(p))));
+    s.final_time / wall
 }
 
 criterion_group!(benches, throws);
