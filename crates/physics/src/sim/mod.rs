@@ -1807,6 +1807,23 @@ pub fn simulate(preset: &Preset) -> Result<Summary, SimError> {
 mod tests {
     use super::*;
 
+    /// `stone.quadrature: Smooth` on a disk (as a version-2 file or the app's shape menu leaves
+    /// it when the shipped lens becomes a disk) throws exactly as the disk's faces.
+    #[test]
+    fn a_smooth_flag_on_a_disk_throws_as_its_faces() {
+        let mut p = Preset::default();
+        p.stone.shape = params::Shape::Disk {
+            radius: 0.05,
+            thickness: 0.01,
+        };
+        p.physics.max_time = 1.0;
+        assert!(!p.stone.quadrature.is_faces());
+        let smooth = simulate(&p).unwrap();
+        p.stone.quadrature = params::Quadrature::Faces;
+        assert_eq!(smooth, simulate(&p).unwrap());
+        assert!(smooth.contacts.len() > 1, "{smooth:?}");
+    }
+
     #[test]
     fn outcomes_read_as_words() {
         assert_eq!(Outcome::Sank.words(), "sank");

@@ -222,7 +222,8 @@ pub enum Quadrature {
     /// On the smooth ellipsoid of a lens (`src/sim/smooth.rs`): a Gauss–Legendre rule with
     /// `meridian` nodes along the wet latitudes; around each latitude the waterline is exact and
     /// the pressure integrated in closed form, and `around` Gauss nodes on each piece of the arc
-    /// take the friction. Flat water only (no wavy contact), a lens only, its axial spin smooth.
+    /// take the friction; its axial spin smooth. A lens over flat water: on wavy water, and for a
+    /// disk or a plate, the mesh's faces carry the load.
     Smooth {
         /// Gauss–Legendre nodes along the wet latitudes (2–64).
         meridian: u32,
@@ -1002,16 +1003,9 @@ impl StoneParams {
                 ));
             }
         }
+        // A disk or a plate with `Smooth` is loaded through its faces (`Stone::new`): the shipped
+        // lenses are smooth, so a shape changed in the app or in a version-2 file keeps working.
         if let Quadrature::Smooth { meridian, around } = self.quadrature {
-            if !matches!(self.shape, Shape::Lens { .. }) {
-                return Err(ParamError::new(
-                    "stone.quadrature",
-                    format!(
-                        "expected Faces for a {} (Smooth integrates over a lens's ellipsoid)",
-                        self.shape.kind_name()
-                    ),
-                ));
-            }
             for (field, n) in [("meridian", meridian), ("around", around)] {
                 if !(2..=64).contains(&n) {
                     return Err(ParamError::new(
