@@ -80,6 +80,8 @@ pub struct Front {
     pub points: Vec<FrontPoint>,
     /// The shipped throw's own mesh and tolerance (its steps tick-bound).
     pub shipped: (u32, u32, f64),
+    /// The shipped throw's smooth quadrature nodes, if it integrates over its ellipsoid.
+    pub shipped_smooth: Option<(u32, u32)>,
 }
 
 /// What the sweep runs.
@@ -186,6 +188,10 @@ pub fn front_sweep(ctx: &Ctx) -> Result<Front, StudyError> {
     ));
     let reference = measure(&setting(&base, (rs, rb), None, rt, false))?;
     let shipped_mesh = (shipped.0, shipped.1);
+    let shipped_smooth = match base.stone.quadrature {
+        Quadrature::Smooth { meridian, around } => Some((meridian, around)),
+        Quadrature::Faces => None,
+    };
     let mut discretisations = Vec::new();
     for &mesh in &meshes {
         let triangles = triangles(&setting(&base, mesh, None, 1e-6, false).stone);
@@ -237,6 +243,7 @@ pub fn front_sweep(ctx: &Ctx) -> Result<Front, StudyError> {
         reference,
         points,
         shipped,
+        shipped_smooth,
     })
 }
 
@@ -473,7 +480,11 @@ fn front_findings(front: &Front) -> String {
     let mut s = String::from("\n");
     let (sn, sb, st) = front.shipped;
     if let Some(p) = front.points.iter().find(|p| {
-        p.smooth.is_none() && p.segments == sn && p.bands == sb && p.tolerance == st && !p.across
+        p.smooth == front.shipped_smooth
+            && p.segments == sn
+            && p.bands == sb
+            && p.tolerance == st
+            && !p.across
     }) {
         s.push_str(&format!(
             "- The shipped setting ({}): {}× real time, {} force evaluations, distance {}.\n",
@@ -641,5 +652,8 @@ mod tests {
         let bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
         assert!(sweep.meshes.contains(&(p.stone.segments, bands)));
         assert!(sweep.tolerances.contains(&p.physics.tolerance));
+        if let Quadrature::Smooth { meridian, around } = p.stone.quadrature {
+            assert!(sweep.smooth.contains(&(meridian, around)));
+        }
     }
 }
