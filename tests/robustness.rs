@@ -33,6 +33,26 @@ fn finite_summary(s: &Summary) {
     }
 }
 
+/// Proptest's find (CI, session 29): a plate launched banked 56° and rising, with no water forces
+/// (C_l = C_f = 0), touches the plane for less than the crossings' tolerance at launch; its exit
+/// was located a rounding before its entry.
+#[test]
+fn a_touch_at_launch_ends_no_earlier_than_it_starts() {
+    let text = "(version: 1, stone: (shape: Plate(length: 0.17630329237430623, width: \
+                0.15117411982532494, thickness: 0.002102518623745575), mass: 1.6101989624317856, \
+                segments: 8), launch: (position: (0.0, 0.0, 0.08579990496549814), velocity: \
+                (5.13982097049158, 0.0, 7.927901479845613), attitude: (tilt_deg: \
+                20.91672334871741, bank_deg: 55.748937151529034, heading_deg: 0.0), spin: \
+                379.79384331638533), physics: (force_law: Rosellini, lift_coefficient: 0.0, \
+                friction_coefficient: 0.0, ventilated: false, integrator: Rk4, rotation: Free, \
+                axial_spin: Faceted, dt: 0.004883858815194481, max_time: 1.5), water: (enabled: \
+                false, size: (6.0, 3.0), origin: (-3.0, -1.5), cell: 0.1))";
+    let p = stoneskip::preset::parse(text, std::path::Path::new("found.ron")).unwrap();
+    let s = run(&p);
+    assert!(!s.contacts.is_empty());
+    finite_summary(&s);
+}
+
 fn run(p: &Preset) -> Summary {
     let mut sim = Simulation::new(p).expect("valid preset");
     let mut ok = true;

@@ -1110,7 +1110,9 @@ impl Simulation {
             if let Some(ev) = self.motion.contacts.last_mut() {
                 if ev.open {
                     ev.open = false;
-                    ev.t_end = t - sstar;
+                    // A touch shorter than the crossings' bisection tolerance can locate its exit
+                    // a rounding before its entry: it ends where it began.
+                    ev.t_end = (t - sstar).max(ev.t_start);
                     ev.v_out = at.velocity.to_array();
                     ev.exit_xy = [at.position.x, at.position.y];
                     ev.attitude_out = reported_attitude(at.orientation, at.velocity);
