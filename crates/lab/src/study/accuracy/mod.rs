@@ -197,10 +197,9 @@ pub fn shipped_tick() -> f64 {
 /// lake are what the app shows, and the study's text compares them with the built-in defaults it
 /// runs (`Preset::version_1()`). `None` if the compiled-in file does not load (a test catches that).
 pub fn shipped_default() -> Option<Preset> {
-    let (_, text) = super::fidelity_common::SHIPPED
-        .iter()
-        .find(|(name, _)| *name == "default")?;
-    crate::preset::parse(text, std::path::Path::new("assets/presets/default.ron")).ok()
+    // The product's shipped default as compiled in (until session 29 this read the fidelity
+    // study's own copy, issue 11's model, so the front measured the throw before issue 38).
+    crate::preset::shipped("default")?.ok()
 }
 
 /// Tolerance of the reference runs.
@@ -626,9 +625,9 @@ pub fn water_cells(quick: bool) -> Vec<f64> {
     if quick {
         vec![0.2, 0.1, 0.05]
     } else {
-        // Halving from 16 cm to the finest cell the presets accept (5 mm), plus the built-in 5 cm;
-        // 2 cm is the shipped presets' cell.
-        vec![0.16, 0.08, 0.05, 0.04, 0.02, 0.01, 0.005]
+        // Halving from 16 cm to the finest cell the presets accept (5 mm), plus the built-in 5 cm
+        // and the shipped default's 3 cm (issue 39); 2 cm is the other shipped lakes' cell.
+        vec![0.16, 0.08, 0.05, 0.04, 0.03, 0.02, 0.01, 0.005]
     }
 }
 
