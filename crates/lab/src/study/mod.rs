@@ -12,12 +12,6 @@
 pub mod accuracy;
 pub mod defaults;
 pub mod fidelity;
-pub mod fidelity_accel;
-pub mod fidelity_air;
-pub mod fidelity_common;
-pub mod fidelity_grid;
-pub mod fidelity_limit;
-pub mod fidelity_tick;
 pub mod phase;
 pub mod plot;
 pub mod spin;

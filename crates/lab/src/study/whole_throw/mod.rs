@@ -21,7 +21,7 @@ use crate::sim::params::{LagLength, MemoryParams, Preset, Rotation, MAX_WATER_CO
 use crate::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
 use crate::sim::{simulate, Summary};
 
-use super::fidelity_common::par_map;
+use super::fidelity::common::par_map;
 use super::{check_cancel, Ctx, StudyError};
 
 /// The whole throws the issue checks.
@@ -54,7 +54,7 @@ fn parse(stem: &str, text: &str) -> Result<Preset, StudyError> {
 /// A preset of `model` by file stem.
 pub fn preset(model: Model, stem: &str) -> Result<Preset, StudyError> {
     let list: &[(&str, &str)] = match model {
-        Model::Before => &super::fidelity_common::SHIPPED,
+        Model::Before => &super::fidelity::common::SHIPPED,
         Model::After => &crate::preset::SHIPPED,
     };
     let (_, text) = list
@@ -158,7 +158,7 @@ fn variants(changes: &[Change], before: bool, quick: bool) -> Result<Vec<Variant
     par_map(jobs, |(model, stem, change, f)| {
         let mut p = preset(model, stem)?;
         if quick {
-            p.water.cell = p.water.cell.max(super::fidelity_common::QUICK_CELL);
+            p.water.cell = p.water.cell.max(super::fidelity::common::QUICK_CELL);
         }
         f(&mut p);
         Ok(Variant {

@@ -4,7 +4,7 @@
 use crate::sim::metrics::hovercraft;
 use crate::sim::params::LagLength;
 
-use super::super::fidelity_common::{MAX_EARLIER_CONTACT, MAX_FINAL_SHARE};
+use super::super::fidelity::common::{MAX_EARLIER_CONTACT, MAX_FINAL_SHARE};
 use super::super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::super::style::colors;
 use super::super::table::{md_table, pct, sig, Csv, Val};

@@ -13,6 +13,13 @@
 //! the curve (Tang et al. 2021), the energy of the paper's law, and the first-bounce anchors (Clanet
 //! et al. 2004's magic angle). Compute, then results, then the report.
 
+pub mod accel;
+pub mod air;
+pub mod common;
+pub mod grid;
+pub mod limit;
+pub mod tick;
+
 use std::f64::consts::TAU;
 
 use glam::DVec3;
@@ -22,21 +29,21 @@ use crate::sim::metrics::{hovercraft, tail_hops, TailHop, ThrowShape};
 use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
 use crate::sim::{scenario, Simulation, Summary};
 
-use super::fidelity_accel::{self, AccelStudy};
-use super::fidelity_air::{self, AirStudy};
-use super::fidelity_common::{
-    before, ensemble_offsets, par_map, shape, shipped, shipped_for, spin_drops, spin_revs,
-    spin_runs, PresetCheck, SpinRun, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE, QUICK_CELL, SHIPPED,
-};
-use super::fidelity_grid::{self, GridStudy};
-use super::fidelity_limit::{self, LimitStudy, Quoted};
-use super::fidelity_tick::{self, TickStudy};
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
 use super::style::law_name;
 use super::table::{md_table, sig, Csv, Val};
 use super::throws::clanet_disc;
 use super::{check_cancel, Ctx, StudyError};
+use accel::AccelStudy;
+use air::AirStudy;
+use common::{
+    before, ensemble_offsets, par_map, shape, shipped, shipped_for, spin_drops, spin_revs,
+    spin_runs, PresetCheck, SpinRun, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE, QUICK_CELL, SHIPPED,
+};
+use grid::GridStudy;
+use limit::{LimitStudy, Quoted};
+use tick::TickStudy;
 
 // ---------------------------------------------------------------------------------------------
 // 1. The vertical energy budget of each contact, per law
@@ -539,11 +546,11 @@ pub fn compute(ctx: &Ctx) -> Result<Fidelity, StudyError> {
     let anchors = anchors(q)?;
     ctx.progress("shipped presets");
     let presets = presets(q)?;
-    let air = fidelity_air::compute(ctx, &presets)?;
-    let limit = fidelity_limit::compute(ctx, &spin, &air.sweep_off)?;
-    let grid = fidelity_grid::compute(ctx)?;
-    let tick = fidelity_tick::compute(ctx)?;
-    let accel = fidelity_accel::compute(ctx)?;
+    let air = air::compute(ctx, &presets)?;
+    let limit = limit::compute(ctx, &spin, &air.sweep_off)?;
+    let grid = grid::compute(ctx)?;
+    let tick = tick::compute(ctx)?;
+    let accel = accel::compute(ctx)?;
     Ok(Fidelity {
         bounces,
         paper,
@@ -781,11 +788,11 @@ fn write_csvs(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         c.push(shape_row(&format!("{} after", p.stem), &p.after));
     }
     ctx.write_csv("presets.csv", &c)?;
-    fidelity_air::write_csvs(ctx, &f.air)?;
-    fidelity_limit::write_csvs(ctx, &f.limit)?;
-    fidelity_grid::write_csvs(ctx, &f.grid)?;
-    fidelity_tick::write_csvs(ctx, &f.tick)?;
-    fidelity_accel::write_csvs(ctx, &f.accel)
+    air::write_csvs(ctx, &f.air)?;
+    limit::write_csvs(ctx, &f.limit)?;
+    grid::write_csvs(ctx, &f.grid)?;
+    tick::write_csvs(ctx, &f.tick)?;
+    accel::write_csvs(ctx, &f.accel)
 }
 
 fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
@@ -881,7 +888,7 @@ fn write_charts(ctx: &Ctx, f: &Fidelity) -> Result<(), StudyError> {
         None,
         &[Panel::Chart(by_touchdown), Panel::Chart(by_spin)],
     )?;
-    fidelity_accel::write_chart(ctx, &f.accel)
+    accel::write_chart(ctx, &f.accel)
 }
 
 fn verdict(ok: bool) -> &'static str {
@@ -926,12 +933,12 @@ fn hovercraft_rows(f: &Fidelity) -> Vec<Vec<String>> {
     rows.push(vec![
         "…and on finer columns, where the near field should converge (§9)".into(),
         "—".into(),
-        fidelity_grid::lead_words(&f.grid),
+        grid::lead_words(&f.grid),
     ]);
     rows.push(vec![
         "…and as the stone–water coupling tick shrinks (§11)".into(),
         "—".into(),
-        fidelity_tick::lead_words(&f.tick),
+        tick::lead_words(&f.tick),
     ]);
     rows
 }
@@ -1056,7 +1063,7 @@ fn lead_table(f: &Fidelity) -> String {
         "no air: a torque-free flight, no roll".into(),
         format!("bank at the first touch (§7): {}", rolls.join(", ")),
     ]);
-    let (before, after) = fidelity_accel::lead_words(&f.accel);
+    let (before, after) = accel::lead_words(&f.accel);
     rows.push(vec![
         "a bounce needs a peak acceleration of about 4 g (Tang 2021: 3.80 g; §12)".into(),
         before,
@@ -1089,12 +1096,12 @@ fn report(ctx: &Ctx, f: &Fidelity) -> String {
     s.push_str(&record_section(f));
     s.push_str(&anchor_section(f));
     s.push_str(&preset_section(f));
-    s.push_str(&fidelity_air::section(&f.air, &f.spin));
-    s.push_str(&fidelity_limit::section(&f.limit, &quoted(f)));
-    s.push_str(&fidelity_grid::section(&f.grid));
+    s.push_str(&air::section(&f.air, &f.spin));
+    s.push_str(&limit::section(&f.limit, &quoted(f)));
+    s.push_str(&grid::section(&f.grid));
     s.push_str(RETIRED_SECTION_10);
-    s.push_str(&fidelity_tick::section(&f.tick));
-    s.push_str(&fidelity_accel::section(&f.accel));
+    s.push_str(&tick::section(&f.tick));
+    s.push_str(&accel::section(&f.accel));
     s
 }
 

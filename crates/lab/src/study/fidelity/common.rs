@@ -9,7 +9,7 @@ use crate::sim::metrics::{throw_shape, ThrowShape};
 use crate::sim::params::{AxialSpin, Preset, Rotation};
 use crate::sim::{simulate, Summary};
 
-use super::{check_cancel, StudyError};
+use super::super::{check_cancel, StudyError};
 
 /// The "no hovercraft" limits of issue 11: the last contact at most this share of the distance…
 pub const MAX_FINAL_SHARE: f64 = 0.10;
@@ -24,39 +24,39 @@ pub const MAX_EARLIER_CONTACT: f64 = 0.3;
 pub const SHIPPED: [(&str, &str); 9] = [
     (
         "default",
-        include_str!("../../../../docs/studies/fidelity/presets/default.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/default.ron"),
     ),
     (
         "magic_angle",
-        include_str!("../../../../docs/studies/fidelity/presets/magic_angle.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/magic_angle.ron"),
     ),
     (
         "too_steep",
-        include_str!("../../../../docs/studies/fidelity/presets/too_steep.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/too_steep.ron"),
     ),
     (
         "too_slow",
-        include_str!("../../../../docs/studies/fidelity/presets/too_slow.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/too_slow.ron"),
     ),
     (
         "record_throw",
-        include_str!("../../../../docs/studies/fidelity/presets/record_throw.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/record_throw.ron"),
     ),
     (
         "paper",
-        include_str!("../../../../docs/studies/fidelity/presets/paper.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/paper.ron"),
     ),
     (
         "bocquet_plate",
-        include_str!("../../../../docs/studies/fidelity/presets/bocquet_plate.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/bocquet_plate.ron"),
     ),
     (
         "clanet_disc",
-        include_str!("../../../../docs/studies/fidelity/presets/clanet_disc.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/clanet_disc.ron"),
     ),
     (
         "no_spin_dive",
-        include_str!("../../../../docs/studies/fidelity/presets/no_spin_dive.ron"),
+        include_str!("../../../../../docs/studies/fidelity/presets/no_spin_dive.ron"),
     ),
 ];
 

@@ -10,11 +10,11 @@ use crate::sim::air::Air;
 use crate::sim::metrics::ThrowShape;
 use crate::sim::stone::{orientation_from_attitude, Stone};
 
-use super::fidelity_common::{
+use super::super::table::{md_table, sig, Csv};
+use super::super::{Ctx, StudyError};
+use super::common::{
     ensemble_offsets, shape, shipped_for, spin_revs, spin_runs, PresetCheck, SpinRun,
 };
-use super::table::{md_table, sig, Csv};
-use super::{Ctx, StudyError};
 
 /// The shipped pebbles compared with the air off and on.
 const PEBBLES: [&str; 3] = ["default", "magic_angle", "record_throw"];
@@ -67,7 +67,7 @@ pub fn compute(ctx: &Ctx, shipped: &[PresetCheck]) -> Result<AirStudy, StudyErro
         .iter()
         .filter_map(|stem| shipped.iter().find(|c| c.stem == *stem))
         .collect();
-    let presets = super::fidelity_common::par_map(pebbles, |check| {
+    let presets = super::common::par_map(pebbles, |check| {
         let mut off = shipped_for(check.stem, q)?;
         off.physics.air = None;
         Ok(AirPreset {
@@ -79,7 +79,7 @@ pub fn compute(ctx: &Ctx, shipped: &[PresetCheck]) -> Result<AirStudy, StudyErro
     let mut p = shipped_for("default", q)?;
     p.physics.air = None;
     let sweep_off = spin_runs(&p, &spin_revs(q), &ensemble_offsets(q))?;
-    let rolls = super::fidelity_common::par_map(roll_spins(q), |rev| first_roll(q, rev))?;
+    let rolls = super::common::par_map(roll_spins(q), |rev| first_roll(q, rev))?;
     let record_steeper = if q {
         None
     } else {
@@ -257,8 +257,8 @@ fn sweep_comparison(a: &AirStudy, sweep_on: &[SpinRun]) -> String {
     ));
     s.push_str(&format!(
         "\nDrops of the median as spin rises: {} with the air, {} without.\n",
-        super::fidelity_common::spin_drops(sweep_on),
-        super::fidelity_common::spin_drops(&a.sweep_off)
+        super::common::spin_drops(sweep_on),
+        super::common::spin_drops(&a.sweep_off)
     ));
     s
 }

@@ -16,12 +16,12 @@
 
 use crate::sim::params::{Preset, Rotation};
 
-use super::fidelity_common::{
+use super::super::table::{md_table, sig, Csv};
+use super::super::{Ctx, StudyError};
+use super::common::{
     ensemble_offsets, lower_median, par_map, shape, shipped_for, spin_drops, spin_revs, spin_runs,
     SpinRun,
 };
-use super::table::{md_table, sig, Csv};
-use super::{Ctx, StudyError};
 
 /// The label of the model with neither the air nor friction.
 const GYROSCOPE: &str = "gyroscope alone (air and friction off)";

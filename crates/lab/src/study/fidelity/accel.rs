@@ -18,9 +18,9 @@ use crate::sim::params::Preset;
 use crate::sim::scenario::{at_impact, min_speed, IMPACT_CLEARANCE};
 use crate::sim::{Outcome, Simulation};
 
-use super::fidelity_common::{before, par_map, shipped_for, QUICK_CELL};
-use super::table::{md_table, sig, Csv};
-use super::{check_cancel, Ctx, StudyError};
+use super::super::table::{md_table, sig, Csv};
+use super::super::{check_cancel, Ctx, StudyError};
+use super::common::{before, par_map, shipped_for, QUICK_CELL};
 
 /// Tang et al.'s threshold: a bounce needs an acceleration above this many g.
 pub const TANG_G: f64 = crate::sim::TANG_BOUNCE_G;
@@ -409,7 +409,7 @@ pub fn lead_words(s: &AccelStudy) -> (String, String) {
 }
 
 pub fn write_csvs(ctx: &Ctx, s: &AccelStudy) -> Result<(), StudyError> {
-    let touch_cells = |t: Option<&Touch>| -> Vec<super::table::Val> {
+    let touch_cells = |t: Option<&Touch>| -> Vec<super::super::table::Val> {
         match t {
             Some(t) => vec![
                 t.kind.as_str().into(),
@@ -738,8 +738,8 @@ pub fn section(s: &AccelStudy) -> String {
 /// The chart: the first contact's peak against impact speed at the middle tilt, per model; and
 /// every contact of the whole throws against its entry speed.
 pub fn write_chart(ctx: &Ctx, s: &AccelStudy) -> Result<(), StudyError> {
-    use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
-    use super::style::colors;
+    use super::super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
+    use super::super::style::colors;
     let tilt = tilts(ctx.quick)[tilts(ctx.quick).len() / 2];
     let tang = || RefLine::h(format!("Tang 2021: {TANG_G:.2} g"), TANG_G, colors::GREY);
     let mut first = Chart::new(

@@ -13,12 +13,10 @@
 use crate::sim::params::Preset;
 use crate::sim::Outcome;
 
-use super::fidelity_common::{ensemble_offsets, shipped_for, QUICK_CELL};
-use super::fidelity_grid::{
-    and_list, distinct, ensemble_row, glides, median_distance, run_cases, GridRun,
-};
-use super::table::{md_table, sig, Csv};
-use super::{Ctx, StudyError};
+use super::super::table::{md_table, sig, Csv};
+use super::super::{Ctx, StudyError};
+use super::common::{ensemble_offsets, shipped_for, QUICK_CELL};
+use super::grid::{and_list, distinct, ensemble_row, glides, median_distance, run_cases, GridRun};
 
 /// The near field a case's stone rides on.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,7 +111,7 @@ fn cases(quick: bool) -> Vec<(&'static str, Surface, f64)> {
 fn preset(stem: &str, surface: Surface, dt: f64, quick: bool) -> Result<Preset, StudyError> {
     let Surface::Columns { refined, .. } = surface;
     let mut p = shipped_for(stem, quick)?;
-    let (size, _) = super::fidelity_grid::lake(stem);
+    let (size, _) = super::grid::lake(stem);
     // §9's lake, longer and wider: at finer ticks the record throw reached §9's far end, and with
     // the water step refined a throw can curve out of its sides.
     p.water.size = [size[0] + EXTRA_LENGTH, COLUMNS_WIDTH];
@@ -376,7 +374,7 @@ mod tests {
     use super::*;
 
     fn run(distance: f64, final_share: f64) -> GridRun {
-        super::super::fidelity_grid::test_run(4, distance, final_share)
+        super::super::grid::test_run(4, distance, final_share)
     }
 
     fn case(dt: f64, distance: f64, share: f64) -> TickCase {

@@ -18,12 +18,12 @@ use crate::sim::metrics::{hovercraft, ThrowShape};
 use crate::sim::params::{Preset, Shape};
 use crate::sim::{Outcome, Simulation};
 
-use super::fidelity_common::{
+use super::super::table::{md_table, sig, Csv};
+use super::super::{check_cancel, Ctx, StudyError};
+use super::common::{
     ensemble_offsets, lower_median, par_map, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE,
     QUICK_CELL,
 };
-use super::table::{md_table, sig, Csv};
-use super::{check_cancel, Ctx, StudyError};
 
 /// The shipped presets' column and rest depth (m), the row the others are read against.
 pub(super) const SHIPPED: (f64, f64) = (0.02, 0.3);
