@@ -315,10 +315,13 @@ fn fly_split(
     };
     let h = t / n as f64;
     let mut st = *s;
-    for _ in 0..n {
-        air_kick(rotation, air, &mut st, 0.5 * h, stone.mass);
+    // The closing half kick of one substep and the opening one of the next act at the same
+    // attitude: they are taken as one kick (leapfrog), two air loads a substep instead of four.
+    air_kick(rotation, air, &mut st, 0.5 * h, stone.mass);
+    for i in 0..n {
         st = flight(stone, rotation, gravity, &st, h);
-        air_kick(rotation, air, &mut st, 0.5 * h, stone.mass);
+        let kick = if i + 1 == n { 0.5 * h } else { h };
+        air_kick(rotation, air, &mut st, kick, stone.mass);
     }
     st
 }

@@ -10,7 +10,7 @@ use super::params::{AxialSpin, Preset, Rotation, Shape};
 use super::{Simulation, StepContext};
 
 /// A shipped-like throw (64-segment lens, free rotation, air, wavy contact on a 2 cm lake) run
-/// past its second contact, so rings and wakes stand on the water around the stone.
+/// past its first contact, so its rings and wake stand on the water around the stone.
 fn wake() -> Simulation {
     let mut p = Preset::version_1();
     p.stone.shape = Shape::Lens {
@@ -30,10 +30,11 @@ fn wake() -> Simulation {
     p.water.origin = Some([-1.0, -1.0]);
     p.water.cell = 0.02;
     let mut sim = Simulation::new(&p).unwrap();
-    let touches = |sim: &Simulation| sim.contacts().iter().map(|c| c.touches).sum::<u32>();
-    while touches(&sim) < 2 || sim.in_contact() {
+    // Out of the water after the first contact (whether it re-touched on the way out or not:
+    // a graze of micrometres on the columns).
+    while sim.contacts().is_empty() || sim.in_contact() {
         sim.tick();
-        assert!(!sim.is_finished(), "the throw skips twice");
+        assert!(!sim.is_finished(), "the throw skips");
     }
     sim
 }
