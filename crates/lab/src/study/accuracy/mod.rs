@@ -193,13 +193,11 @@ pub const REF_TICK: f64 = 5e-4;
 pub fn shipped_tick() -> f64 {
     Preset::version_1().physics.dt
 }
-/// The shipped default throw (`assets/presets/default.ron`, as compiled in): its lens and its
-/// lake are what the app shows, and the study's text compares them with the built-in defaults it
-/// runs (`Preset::version_1()`). `None` if the compiled-in file does not load (a test catches that).
-pub fn shipped_default() -> Option<Preset> {
-    // The product's shipped default as compiled in (until session 29 this read the fidelity
-    // study's own copy, issue 11's model, so the front measured the throw before issue 38).
-    crate::preset::shipped("default")?.ok()
+/// The shipped default throw (`assets/presets/default.ron` as compiled in, `Preset::default()`):
+/// its lens and its lake are what the app shows, and the study's text compares them with the
+/// built-in defaults it runs (`Preset::version_1()`).
+pub fn shipped_default() -> Preset {
+    Preset::default()
 }
 
 /// Tolerance of the reference runs.
@@ -517,12 +515,11 @@ fn band_cases(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<(String, Preset)>, 
         .map(|t| Ok((t.key.to_string(), throws::preset(t, &b)?)))
         .collect::<Result<Vec<_>, StudyError>>()?;
     if !ctx.quick {
-        if let Some(mut d) = shipped_default() {
-            d.water.enabled = false;
-            d.physics.dt = REF_TICK;
-            d.physics.tolerance = RESOLUTION_TOLERANCE;
-            cases.push(("default".to_string(), d));
-        }
+        let mut d = shipped_default();
+        d.water.enabled = false;
+        d.physics.dt = REF_TICK;
+        d.physics.tolerance = RESOLUTION_TOLERANCE;
+        cases.push(("default".to_string(), d));
     }
     Ok(cases)
 }
@@ -781,8 +778,9 @@ pub struct Results {
     pub mesh: Vec<MeshPoint>,
     pub bands: Vec<BandsPoint>,
     pub water: Vec<WaterPoint>,
-    /// The stone-only default's real time against error (`front.rs`).
-    pub front: Front,
+    /// Real time against error of the stone-only default and of a faster, flatter throw
+    /// (`front.rs`).
+    pub fronts: Vec<Front>,
 }
 
 /// Computes the integrator sweeps of every throw.
@@ -813,14 +811,17 @@ pub fn compute(ctx: &Ctx) -> Result<Results, StudyError> {
     let mesh = mesh_sweep(ctx, &throw_list(ctx.quick))?;
     let bands = bands_sweep(ctx, &throw_list(ctx.quick))?;
     let water = water_sweep(ctx)?;
-    let front = front::front_sweep(ctx)?;
+    let fronts = front::front_throws()
+        .into_iter()
+        .map(|throw| front::front_sweep(ctx, throw))
+        .collect::<Result<_, _>>()?;
     Ok(Results {
         references,
         points,
         mesh,
         bands,
         water,
-        front,
+        fronts,
     })
 }
 
@@ -838,7 +839,7 @@ mod tests {
     /// preset loads, and the full sweeps include its segments and its cell.
     #[test]
     fn the_shipped_lens_and_cell_are_in_the_full_sweeps() {
-        let p = shipped_default().expect("assets/presets/default.ron loads");
+        let p = shipped_default();
         assert!(mesh_segments(false).contains(&p.stone.segments));
         let shipped_bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
         assert!(band_meshes(false).contains(&(p.stone.segments, shipped_bands)));
