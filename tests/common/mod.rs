@@ -10,7 +10,7 @@ use stoneskip::reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
 use stoneskip::sim::params::{
     Attitude, ForceLaw, Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams,
 };
-use stoneskip::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
+use stoneskip::sim::scenario::{at_impact, IMPACT_CLEARANCE};
 use stoneskip::sim::{SimError, Simulation};
 
 /// One revolution (rad).
@@ -175,36 +175,6 @@ pub fn spin_point(tilt: f64, rev_s: f64, centre: PressureCentre) -> Result<SpinP
                 .to_degrees()
         }),
     })
-}
-
-/// Smallest spin (rev/s) in [0, `hi`] whose first contact skips at `tilt`, by bisection to `tol`
-/// rev/s, with that contact's duration (s). `None` when `hi` does not skip.
-pub fn spin_threshold(
-    tilt: f64,
-    centre: PressureCentre,
-    hi: f64,
-    tol: f64,
-) -> Result<Option<(f64, f64)>, SimError> {
-    let first = |s: f64| -> Result<(bool, f64), SimError> {
-        let c = first_contact(&clanet_spun(tilt, s, centre)?)?;
-        Ok(c.map_or((false, 0.0), |c| (c.skipped, c.duration)))
-    };
-    if !first(hi)?.0 {
-        return Ok(None);
-    }
-    if first(0.0)?.0 {
-        return Ok(Some((0.0, first(0.0)?.1)));
-    }
-    let (mut lo, mut hi) = (0.0, hi);
-    while hi - lo > tol {
-        let mid = 0.5 * (lo + hi);
-        if first(mid)?.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Ok(Some((hi, first(hi)?.1)))
 }
 
 /// One point of the spin-limited count.

@@ -647,7 +647,10 @@ pub fn fronts_findings(fronts: &[Front]) -> String {
                 .collect();
             let all = each.len() == fronts.len() && each.iter().all(|q| q.within_one_percent());
             all.then(|| {
-                let slowest = each.iter().map(|q| q.real_time()).fold(f64::INFINITY, f64::min);
+                let slowest = each
+                    .iter()
+                    .map(|q| q.real_time())
+                    .fold(f64::INFINITY, f64::min);
                 let cells: Vec<String> = each
                     .iter()
                     .map(|q| format!("{}×, {}", sig(q.real_time(), 3), q.error_text()))
@@ -657,7 +660,10 @@ pub fn fronts_findings(fronts: &[Front]) -> String {
         })
         .collect();
     held.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let titles: Vec<String> = fronts.iter().map(|f| f.throw.title.to_lowercase()).collect();
+    let titles: Vec<String> = fronts
+        .iter()
+        .map(|f| f.throw.title.to_lowercase())
+        .collect();
     let mut s = format!(
         "\n## Both throws\n\nA setting holds when it is within 1 % with the reference's skips on every throw ({}).\n\n",
         titles.join(", ")
@@ -669,7 +675,9 @@ pub fn fronts_findings(fronts: &[Front]) -> String {
         .map(|(_, text)| text.as_str())
         .collect();
     if reaching.is_empty() {
-        s.push_str(&format!("- No setting holds and reaches {goal} on every throw.\n"));
+        s.push_str(&format!(
+            "- No setting holds and reaches {goal} on every throw.\n"
+        ));
     } else {
         s.push_str(&format!(
             "- Holding and at {goal} or more on every throw: {}.\n",
@@ -760,7 +768,10 @@ mod tests {
             ]),
         ];
         let text = fronts_findings(&fronts);
-        assert!(text.contains("or more on every throw: 32 × 16, tolerance 1e-4 (350×"), "{text}");
+        assert!(
+            text.contains("or more on every throw: 32 × 16, tolerance 1e-4 (350×"),
+            "{text}"
+        );
         assert!(!text.contains("tolerance 0.001 ("), "{text}");
         assert!(!text.contains("tolerance 1e-5 ("), "{text}");
     }
