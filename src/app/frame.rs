@@ -155,6 +155,7 @@ impl App {
             st.wall += f.real_dt;
             st.physics += model.frame_physics;
             st.water += model.frame_water;
+            st.lake += model.frame_lake;
             st.render += f.render;
             st.ui += f.ui;
             if model.last_full_redraw {
@@ -182,13 +183,14 @@ impl App {
             .map_or((0, 0), |g| (g.config.width, g.config.height));
         let adapter = self.gfx.as_ref().map_or("", |g| g.adapter.as_str());
         format!(
-            "stoneskip: {} frames at {w}x{h}; mean over the last {}: {:.1} fps ({:.2} ms a frame): physics {:.2} ms, water {:.2} ms, render {:.2} ms ({} full redraws at {:.2} ms, the rest {:.2} ms), panels {:.2} ms; {} ticks, {:.3} s simulated, {:.3} s dropped; render scale {:.2}; recovered: {} lost devices, {} lost surfaces, {} frames without a surface; {}",
+            "stoneskip: {} frames at {w}x{h}; mean over the last {}: {:.1} fps ({:.2} ms a frame): physics {:.2} ms, water {:.2} ms (its own thread {:.2} ms), render {:.2} ms ({} full redraws at {:.2} ms, the rest {:.2} ms), panels {:.2} ms; {} ticks, {:.3} s simulated, {:.3} s dropped; render scale {:.2}; recovered: {} lost devices, {} lost surfaces, {} frames without a surface; {}",
             self.frames_drawn,
             st.frames,
             n / st.wall.max(1e-9),
             1000.0 * st.wall / n,
             1000.0 * st.physics / n,
             1000.0 * st.water / n,
+            1000.0 * st.lake / n,
             1000.0 * st.render / n,
             st.full_redraws,
             1000.0 * st.full_render / st.full_redraws.max(1) as f64,

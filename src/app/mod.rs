@@ -47,7 +47,11 @@ use platform::App;
 pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
     let options = Options::from_env();
     let (initial, source) = match &preset {
-        Some(p) => (preset::load(p)?, Some(p.clone())),
+        // A file, or a shipped preset's name (as `simulate` takes it); Save As starts beside a file.
+        Some(p) => (
+            preset::load_file_or_shipped(p)?,
+            p.exists().then(|| p.clone()),
+        ),
         None => default_preset(),
     };
     let mut model = Model::new(initial, source, options.clone())?;

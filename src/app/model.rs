@@ -5,6 +5,7 @@
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result};
@@ -22,7 +23,7 @@ use crate::render::camera::{camera_for, Framing, ViewMode};
 use crate::render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
 use crate::sim::params::{Integrator, Launch, Preset, Rotation};
 use crate::sim::stone::reported_attitude;
-use crate::sim::{Outcome, Simulation, StepSample, TickProgress};
+use crate::sim::{LakeJob as LakeWork, Outcome, Simulation, StepSample, SteppedLake, TickProgress};
 use crate::ui::{
     contact_kind, slide_distance, Action, ContactKind, FrameTiming, Message, Phase, PlotSeries,
     PresetLibrary, Readouts, Section, ViewRequest, ViewSettings,
@@ -295,6 +296,9 @@ pub struct Shown {
     pub frame: u64,
 }
 
+/// The lake's own thread: its grid as stepped and the seconds it took (`None`: it found no job).
+type LakeThread = std::thread::JoinHandle<Option<(SteppedLake, f64)>>;
+
 /// Frame time totals (s) for the `--frames` report.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct FrameStats {
@@ -302,6 +306,8 @@ pub struct FrameStats {
     pub wall: f64,
     pub physics: f64,
     pub water: f64,
+    /// The lake's own thread (off the frame).
+    pub lake: f64,
     pub render: f64,
     pub ui: f64,
     pub full_redraws: u64,
@@ -330,6 +336,11 @@ pub struct Model {
     /// edit replaces it).
     lake_job: Option<LakeJob>,
     pub sim: Simulation,
+    /// The lake steps on its own thread while the frame draws (`sim::lake`): handed out at the
+    /// end of [`Model::update`], back at the start of the next (`Options::lake_thread`).
+    pub lake_thread: bool,
+    /// The lake's grid stepping on its own thread, and the run it belongs to (`generation`).
+    lake_step: Option<(u64, LakeThread)>,
     /// What a frame may spend on physics.
     pub budget: FrameBudget,
     /// How fast the physics went over the last second of real time.
@@ -369,6 +380,8 @@ pub struct Model {
     pub view_rect: egui::Rect,
     pub frame_physics: f64,
     pub frame_water: f64,
+    /// Seconds the lake's own thread took for the ticks of the last frame it was handed.
+    pub frame_lake: f64,
     pub frames: u64,
     pub stats: FrameStats,
     pub shown: Shown,
@@ -431,6 +444,8 @@ impl Model {
             lake_job: None,
             edit: preset,
             sim,
+            lake_thread: options.lake_thread,
+            lake_step: None,
             budget: FrameBudget::default(),
             pace: Pace::default(),
             deferred_physics: None,
@@ -460,6 +475,7 @@ impl Model {
             view_rect: egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 800.0)),
             frame_physics: 0.0,
             frame_water: 0.0,
+            frame_lake: 0.0,
             frames: 0,
             stats: FrameStats::default(),
             shown: Shown::default(),
@@ -616,6 +632,9 @@ impl Model {
     /// Resets the run's bookkeeping after `sim` was (re)built.
     fn start_run(&mut self) {
         self.generation += 1;
+        // A lake still stepping belongs to the run before: it is dropped when it ends.
+        self.lake_step = None;
+        self.sim.defer_lake(self.lake_thread);
         self.ticks = 0;
         let dt = self.sim.preset().physics.dt;
         self.clock.set_step(dt);
@@ -795,6 +814,8 @@ impl Model {
     /// (`real_dt` seconds since the last frame), the water's heights for the renderer, the
     /// camera. The app's frame and the UI tests both run it.
     pub fn update(&mut self, actions: Vec<Action>, real_dt: f64) {
+        self.frame_lake = 0.0;
+        let waited = self.lake_home();
         for a in actions {
             self.handle(a);
         }
@@ -802,13 +823,66 @@ impl Model {
             e.poll();
         }
         self.frame_physics = 0.0;
-        self.frame_water = 0.0;
+        self.frame_water = waited;
         self.advance(real_dt);
         let copy_start = Instant::now();
         self.heights.refresh(&self.sim, self.generation);
         self.frame_water += copy_start.elapsed().as_secs_f64();
+        self.send_lake();
         self.update_camera(real_dt);
         self.frames += 1;
+    }
+
+    /// Takes back the lake handed to its own thread at the last frame's end (waiting for it if it
+    /// has not finished): seconds waited. A run rebuilt since keeps its own lake. A thread that
+    /// failed leaves the run without its water, said once.
+    fn lake_home(&mut self) -> f64 {
+        let Some((generation, handle)) = self.lake_step.take() else {
+            return 0.0;
+        };
+        let start = Instant::now();
+        match handle.join() {
+            Ok(Some((stepped, took))) => {
+                if generation == self.generation && self.sim.return_lake(stepped) {
+                    self.frame_lake = took;
+                }
+            }
+            Ok(None) | Err(_) => self.post(Message::error(
+                "the lake's thread failed: the water stops here (the stone runs on)",
+            )),
+        }
+        start.elapsed().as_secs_f64()
+    }
+
+    /// Hands the lake's queued ticks to a thread of its own, to step while the frame draws
+    /// (`sim::lake`); where no thread can be started they step here.
+    fn send_lake(&mut self) {
+        if !self.lake_thread {
+            return;
+        }
+        let Some(job) = self.sim.take_lake() else {
+            return;
+        };
+        let slot = Arc::new(Mutex::new(Some(job)));
+        let theirs = Arc::clone(&slot);
+        let spawned = std::thread::Builder::new()
+            .name("stoneskip-lake".into())
+            .spawn(move || {
+                let start = Instant::now();
+                let job: Option<LakeWork> = theirs.lock().ok().and_then(|mut j| j.take());
+                job.map(|j| (j.run(), start.elapsed().as_secs_f64()))
+            });
+        match spawned {
+            Ok(handle) => self.lake_step = Some((self.generation, handle)),
+            Err(_) => {
+                let job = slot.lock().ok().and_then(|mut j| j.take());
+                if let Some(job) = job {
+                    let start = Instant::now();
+                    self.sim.return_lake(job.run());
+                    self.frame_water += start.elapsed().as_secs_f64();
+                }
+            }
+        }
     }
 
     pub fn advance(&mut self, real_dt: f64) {
@@ -1338,6 +1412,47 @@ mod tests {
         assert!(rest_due(true, 0.0, None));
         // A swell never calms: rest a while after the outcome anyway.
         assert!(rest_due(true, REST_AFTER, Some(0.02)));
+    }
+
+    /// The lake on its own thread (issue 41): frame after frame the stone is the one of a model
+    /// that steps the lake inside the frame, and once the lake is back its columns are too, bit
+    /// for bit; the heights drawn are at most one frame's ticks behind.
+    #[test]
+    fn a_lake_on_its_own_thread_is_the_lake_stepped_in_the_frame() {
+        let mut p = Preset::default();
+        p.water.size = [8.0, 3.0];
+        p.water.origin = Some([-1.0, -1.5]);
+        p.water.cell = 0.05;
+        let model = |lake_thread: bool| {
+            let options = Options {
+                lake_thread,
+                ..Options::default()
+            };
+            let mut m = Model::new(p.clone(), None, options).unwrap();
+            m.throw();
+            m
+        };
+        let (mut inline, mut threaded) = (model(false), model(true));
+        let mut handed = 0;
+        for _ in 0..90 {
+            inline.update(Vec::new(), 1.0 / 60.0);
+            threaded.update(Vec::new(), 1.0 / 60.0);
+            handed += usize::from(threaded.lake_step.is_some());
+            assert_eq!(inline.sim.state(), threaded.sim.state());
+            assert!(threaded.sim.lake_geometry().is_some());
+        }
+        assert!(handed > 60, "the lake went to its thread {handed} times");
+        // A frame that runs no tick brings the lake home and hands nothing out.
+        threaded.update(Vec::new(), 0.0);
+        assert!(threaded.lake_step.is_none());
+        let (a, b) = (inline.sim.water().unwrap(), threaded.sim.water().unwrap());
+        assert_eq!(a.steps(), b.steps());
+        assert!(a.max_abs_eta() > 1e-4);
+        for iy in 0..a.ny() {
+            for ix in 0..a.nx() {
+                assert_eq!(a.eta(ix, iy).to_bits(), b.eta(ix, iy).to_bits());
+            }
+        }
     }
 
     #[test]

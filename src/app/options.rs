@@ -17,6 +17,7 @@
 //! | `STONESKIP_SOAK_UNTIL=outcome` | a soak throw ends at its outcome, not when the app rests |
 //! | `STONESKIP_SOAK_CSV=FILE` | where the soak writes its per-throw rows (default `stoneskip-soak.csv`) |
 //! | `STONESKIP_EXPERIMENT=VALUE[:N]` | opens Experiments and runs the suggested sweep of `speed`, `tilt`, `spin`, `height` or `mass` (N throws, default 24) at start |
+//! | `STONESKIP_LAKE_THREAD=0` | steps the lake inside the frame, not on its own thread (for comparison) |
 //! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost`, `gpu_error` |
 
 use std::path::PathBuf;
@@ -47,6 +48,9 @@ pub struct Options {
     /// The experiment to run at start: the value varied over its suggested range, in so many
     /// throws.
     pub experiment: Option<(super::experiments::Knob, usize)>,
+    /// The lake steps on its own thread while the frame draws (`Model::lake_thread`); the app
+    /// turns it on unless `STONESKIP_LAKE_THREAD=0`, the default (tests) leaves it off.
+    pub lake_thread: bool,
 }
 
 /// A GPU fault the app injects into itself (`STONESKIP_FAULT`), to test its recovery.
@@ -84,6 +88,7 @@ impl Default for Options {
             soak_until_outcome: false,
             faults: Vec::new(),
             experiment: None,
+            lake_thread: false,
         }
     }
 }
@@ -138,6 +143,7 @@ impl Options {
             faults: get("STONESKIP_FAULT")
                 .map(|v| parse_faults(&v))
                 .unwrap_or_default(),
+            lake_thread: get("STONESKIP_LAKE_THREAD").is_none_or(|v| v.trim() != "0"),
         }
     }
 }
@@ -183,7 +189,16 @@ mod tests {
 
     #[test]
     fn parses_each_hook_once_and_ignores_nonsense() {
-        assert_eq!(with(&[]), Options::default());
+        // The app steps its lake on its own thread unless told not to; the default (the models
+        // of the tests) steps it inside the frame.
+        assert_eq!(
+            with(&[]),
+            Options {
+                lake_thread: true,
+                ..Options::default()
+            }
+        );
+        assert!(!with(&[("STONESKIP_LAKE_THREAD", "0")]).lake_thread);
         let o = with(&[
             ("STONESKIP_AUTOTHROW", "1"),
             ("STONESKIP_WINDOW_SIZE", "1280x720"),
@@ -205,7 +220,13 @@ mod tests {
             ("STONESKIP_EXAGGERATE", "nan"),
             ("STONESKIP_RENDER_SCALE", "nan"),
         ]);
-        assert_eq!(bad, Options::default());
+        assert_eq!(
+            bad,
+            Options {
+                lake_thread: true,
+                ..Options::default()
+            }
+        );
     }
 
     #[test]

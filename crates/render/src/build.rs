@@ -33,22 +33,24 @@ pub fn scene_of<'a>(
         orientation,
         radius: sim.stone().shape.half_extent(),
     });
-    let water = sim.water().and_then(|w| {
-        (heights.data.len() == w.nx() * w.ny() && !heights.data.is_empty()).then(|| WaterView {
+    // The lake's geometry, also while its grid steps on another thread (`sim::lake`); its
+    // heights are the copy `heights` holds.
+    let water = sim.lake_geometry().and_then(|g| {
+        (heights.data.len() == g.nx * g.ny && !heights.data.is_empty()).then(|| WaterView {
             heights: &heights.data,
-            nx: w.nx(),
-            ny: w.ny(),
-            cell: w.cell(),
-            origin: w.origin(),
+            nx: g.nx,
+            ny: g.ny,
+            cell: g.cell,
+            origin: g.origin,
             revision: heights.revision,
         })
     });
     let t = sim.time();
     let lines = sim
-        .water()
-        .map(|w| {
-            let (o, c) = (w.origin(), w.cell());
-            let hi = [o[0] + w.nx() as f64 * c, o[1] + w.ny() as f64 * c];
+        .lake_geometry()
+        .map(|g| {
+            let (o, c) = (g.origin, g.cell);
+            let hi = [o[0] + g.nx as f64 * c, o[1] + g.ny as f64 * c];
             lake_rim(o, hi)
         })
         .unwrap_or_default();
@@ -223,8 +225,11 @@ impl WaterHeights {
     /// the simulation is rebuilt (a new grid). Returns whether a copy happened.
     pub fn refresh(&mut self, sim: &Simulation, generation: u64) -> bool {
         let Some(w) = sim.water() else {
-            self.data.clear();
-            self.seen = None;
+            // A lake stepping on another thread keeps its last copy; no lake, none.
+            if sim.lake_geometry().is_none() {
+                self.data.clear();
+                self.seen = None;
+            }
             return false;
         };
         let key = (generation, w.steps());

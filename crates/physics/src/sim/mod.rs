@@ -23,6 +23,7 @@ pub mod contact;
 pub mod hydro;
 pub mod integrate;
 pub mod kernel;
+pub mod lake;
 pub mod law;
 pub mod memory;
 pub mod mesh;
@@ -51,6 +52,7 @@ use integrate::{
     step_symplectic_euler, BodyState, Deriv, Dynamics, ErrorScales, FlightBound, RevolutionBound,
     WaveBound,
 };
+pub use lake::{LakeGeometry, LakeJob, SteppedLake};
 use memory::WettedMemory;
 use params::{Integrator, ParamError, Physics, Preset, Rotation, Shape};
 use stone::{orientation_from_attitude, reported_attitude, Stone};
@@ -449,6 +451,13 @@ pub struct Simulation {
     pending_flush: usize,
     /// The most face impulses held at once so far (the memory a tick's loads took).
     pending_high: usize,
+    /// The lake is deferred ([`Simulation::defer_lake`]): the water's work is queued in `lake_ops`.
+    defer_lake: bool,
+    /// The water's work the ticks queued while deferred, in order.
+    lake_ops: Vec<lake::LakeOp>,
+    /// While the grid is handed out ([`Simulation::take_lake`]): where it lies, and the key it
+    /// must come back with.
+    lake_out: Option<(LakeGeometry, u64)>,
 }
 
 /// A tick in progress: its target time, its length and its step guard, so that the next call of
@@ -508,6 +517,9 @@ impl Simulation {
             water_patch: EtaPatch::default(),
             volume_initial,
             step_water: true,
+            defer_lake: false,
+            lake_ops: Vec::new(),
+            lake_out: None,
             launch_position: state.position,
             motion: Motion {
                 state,
@@ -620,9 +632,70 @@ impl Simulation {
     pub fn last_force(&self) -> ForceSum {
         self.motion.last_force
     }
-    /// The column-and-pipe water; `None` with the water off.
+    /// The column-and-pipe water; `None` with the water off, and while a deferred lake's grid is
+    /// handed out ([`Simulation::take_lake`]).
     pub fn water(&self) -> Option<&WaterGrid> {
         self.water.as_ref()
+    }
+
+    /// Where the lake lies, also while its grid is handed out; `None` with the water off.
+    pub fn lake_geometry(&self) -> Option<LakeGeometry> {
+        match (&self.water, self.lake_out) {
+            (Some(w), _) => Some(LakeGeometry::of(w)),
+            (None, Some((g, _))) => Some(g),
+            (None, None) => None,
+        }
+    }
+
+    /// Defers the lake's work (`lake.rs`): the face impulses and the step at each tick's end are
+    /// queued for [`Simulation::take_lake`] instead of done where the stone steps. Only where the
+    /// stone does not read the columns (wavy contact off) and the water steps; returns whether the
+    /// lake is now deferred. Turning it off does the queued work here (the grid must be home).
+    pub fn defer_lake(&mut self, on: bool) -> bool {
+        let can = self.water.is_some() && self.step_water && !self.preset.water.wavy_contact;
+        if !on {
+            self.settle_lake();
+        }
+        self.defer_lake = on && can;
+        self.defer_lake
+    }
+
+    /// Hands the deferred lake's grid out with the work queued for it, to be run anywhere
+    /// ([`LakeJob::run`]) and given back with [`Simulation::return_lake`]; `None` when the lake is
+    /// not deferred, is already out, or has no work queued. While it is out the stone runs on
+    /// (its motion never reads the grid) and its ticks queue more work.
+    pub fn take_lake(&mut self) -> Option<LakeJob> {
+        if !self.defer_lake || self.lake_ops.is_empty() {
+            return None;
+        }
+        let grid = self.water.take()?;
+        let key = lake::next_key();
+        self.lake_out = Some((LakeGeometry::of(&grid), key));
+        Some(LakeJob {
+            grid,
+            ops: std::mem::take(&mut self.lake_ops),
+            key,
+        })
+    }
+
+    /// Puts back a grid [`Simulation::take_lake`] handed out, once its job ran; false (and the
+    /// grid dropped) when it is not this run's.
+    pub fn return_lake(&mut self, stepped: SteppedLake) -> bool {
+        match self.lake_out {
+            Some((_, key)) if key == stepped.key => {
+                self.water = Some(stepped.grid);
+                self.lake_out = None;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Does the deferred lake's queued work here, if its grid is home.
+    fn settle_lake(&mut self) {
+        if let Some(w) = self.water.as_mut() {
+            lake::apply(w, std::mem::take(&mut self.lake_ops));
+        }
     }
     /// (accepted steps, force evaluations).
     pub fn cost(&self) -> (u64, u64) {
@@ -660,6 +733,14 @@ impl Simulation {
             ..self.preset.clone()
         }
         .check_quadrature()?;
+        if self.lake_out.is_some() {
+            return Err(ParamError::new(
+                "physics",
+                "the lake is being stepped elsewhere: give it back (return_lake) before changing the physics",
+            ));
+        }
+        // The queued ticks ran under the old constants.
+        self.settle_lake();
         if let Some(w) = self.water.as_mut() {
             w.set_constants(physics.gravity, physics.water_density)?;
         }
@@ -790,7 +871,9 @@ impl Simulation {
         // With wavy contact the stone reads the columns.
         let reads_columns = self.preset.water.wavy_contact;
         let mut moved = false;
-        if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
+        if self.defer_lake {
+            self.lake_ops.push(lake::LakeOp::Advance(dt));
+        } else if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             let before = w.time();
             w.advance(dt);
             if w.time() != before && reads_columns {
@@ -808,6 +891,13 @@ impl Simulation {
     /// Hands the face impulses gathered so far in the tick to the water, in their order (the grid
     /// sums them into its pending loads, applied when it next steps).
     fn deposit_pending(&mut self) {
+        if self.defer_lake {
+            if !self.motion.pending.is_empty() {
+                let loads = std::mem::take(&mut self.motion.pending);
+                self.lake_ops.push(lake::LakeOp::Deposit(loads));
+            }
+            return;
+        }
         if let Some(w) = self.water.as_mut().filter(|_| self.step_water) {
             for l in &self.motion.pending {
                 w.deposit_load_box(l.x, l.y, l.half, l.impulse, l.horizontal);
@@ -1147,8 +1237,8 @@ impl Simulation {
             self.finish(Outcome::Sank);
             return;
         }
-        let left = match &self.water {
-            Some(w) => !w.contains(s.position.x, s.position.y),
+        let left = match self.lake_geometry() {
+            Some(g) => !g.contains(s.position.x, s.position.y),
             None => self.distance() > OPEN_WATER_LIMIT,
         };
         if left {
@@ -1158,7 +1248,7 @@ impl Simulation {
 
     /// Whether a lake will take the stone's face loads (there is one, and it steps).
     fn water_takes_loads(&self) -> bool {
-        self.water.is_some() && self.step_water
+        (self.water.is_some() || self.lake_out.is_some()) && self.step_water
     }
 
     /// The flight from `s` over `t` (with the air when the preset has it).
@@ -1888,6 +1978,79 @@ mod tests {
         let mut heavier = p.physics;
         heavier.gravity = 12.0;
         sim.set_physics(heavier).unwrap();
+    }
+
+    /// A deferred lake (`lake.rs`), handed out every few ticks and stepped on another thread while
+    /// the stone runs on, ends bit for bit as the lake stepped at every tick's end, and the stone's
+    /// run is the same; while the grid is out the lake's edge still ends the run, a physics edit is
+    /// refused, and a grid goes back only to the run it came from.
+    #[test]
+    fn a_lake_stepped_elsewhere_is_the_lake_stepped_here() {
+        let mut p = Preset::default();
+        p.water.size = [8.0, 3.0];
+        p.water.origin = Some([-1.0, -1.5]);
+        p.water.cell = 0.05;
+        p.physics.max_time = 1.5;
+        let mut here = Simulation::new(&p).unwrap();
+        while !here.is_finished() {
+            here.tick();
+        }
+        let mut away = Simulation::new(&p).unwrap();
+        assert!(away.defer_lake(true));
+        let mut job: Option<std::thread::JoinHandle<SteppedLake>> = None;
+        let mut ticks = 0;
+        while !away.is_finished() {
+            away.tick();
+            ticks += 1;
+            if ticks % 3 == 0 {
+                if let Some(j) = job.take() {
+                    assert!(away.return_lake(j.join().unwrap()));
+                }
+                if let Some(next) = away.take_lake() {
+                    assert!(away.water().is_none() && away.lake_geometry().is_some());
+                    assert!(away.set_physics(away.preset().physics).is_err());
+                    job = Some(std::thread::spawn(move || next.run()));
+                }
+            }
+        }
+        if let Some(j) = job.take() {
+            assert!(away.return_lake(j.join().unwrap()));
+        }
+        assert!(!away.defer_lake(false));
+        assert_eq!(here.summary(), away.summary());
+        assert_eq!(away.outcome(), Some(Outcome::LeftDomain));
+        let (a, b) = (here.water().unwrap(), away.water().unwrap());
+        assert_eq!(a.steps(), b.steps());
+        assert!(a.steps() > 20 && a.max_abs_eta() > 1e-4, "{}", a.steps());
+        for iy in 0..a.ny() {
+            for ix in 0..a.nx() {
+                assert_eq!(a.eta(ix, iy).to_bits(), b.eta(ix, iy).to_bits());
+            }
+        }
+        // A grid from another run is refused (and this run's lake stays out).
+        let mut other = Simulation::new(&p).unwrap();
+        other.defer_lake(true);
+        other.tick();
+        let stranger = other.take_lake().unwrap().run();
+        away.defer_lake(true);
+        away.tick();
+        let _out = away.take_lake().unwrap();
+        assert!(!away.return_lake(stranger));
+        assert!(away.water().is_none());
+    }
+
+    /// With wavy contact the stone reads the columns: the lake cannot be deferred.
+    #[test]
+    fn a_lake_the_stone_reads_is_not_deferred() {
+        let mut p = Preset::default();
+        p.water.wavy_contact = true;
+        p.water.size = [4.0, 2.0];
+        p.water.origin = Some([-1.0, -1.0]);
+        p.water.cell = 0.05;
+        let mut sim = Simulation::new(&p).unwrap();
+        assert!(!sim.defer_lake(true));
+        sim.tick();
+        assert!(sim.take_lake().is_none());
     }
 
     /// Finding S3: a costly tick's face impulses are handed to the water once they reach the
