@@ -48,11 +48,7 @@ pub fn scene_of<'a>(
     let t = sim.time();
     let lines = sim
         .lake_geometry()
-        .map(|g| {
-            let (o, c) = (g.origin, g.cell);
-            let hi = [o[0] + g.nx as f64 * c, o[1] + g.ny as f64 * c];
-            lake_rim(o, hi)
-        })
+        .map(|g| lake_rim(g.origin, g.far_corner()))
         .unwrap_or_default();
     Scene {
         camera,

@@ -9,6 +9,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+pub use super::water::LakeGeometry;
 use super::water::WaterGrid;
 use super::PendingLoad;
 
@@ -32,38 +33,6 @@ pub(super) fn apply(grid: &mut WaterGrid, ops: Vec<LakeOp>) {
             }
             LakeOp::Advance(dt) => grid.advance(dt),
         }
-    }
-}
-
-/// Where a lake lies (its grid's columns and cell), also while its grid is handed out.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LakeGeometry {
-    /// Columns along x and y.
-    pub nx: usize,
-    /// Columns along y.
-    pub ny: usize,
-    /// Column width (m).
-    pub cell: f64,
-    /// The −x, −y corner (m).
-    pub origin: [f64; 2],
-}
-
-impl LakeGeometry {
-    /// The geometry of `grid`.
-    pub fn of(grid: &WaterGrid) -> Self {
-        Self {
-            nx: grid.nx(),
-            ny: grid.ny(),
-            cell: grid.cell(),
-            origin: grid.origin(),
-        }
-    }
-
-    /// Whether (x, y) lies over the lake: [`WaterGrid::contains`].
-    pub fn contains(&self, x: f64, y: f64) -> bool {
-        let [ox, oy] = self.origin;
-        let l = self.cell;
-        x >= ox && y >= oy && x < ox + self.nx as f64 * l && y < oy + self.ny as f64 * l
     }
 }
 

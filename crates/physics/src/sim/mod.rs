@@ -641,7 +641,7 @@ impl Simulation {
     /// Where the lake lies, also while its grid is handed out; `None` with the water off.
     pub fn lake_geometry(&self) -> Option<LakeGeometry> {
         match (&self.water, self.lake_out) {
-            (Some(w), _) => Some(LakeGeometry::of(w)),
+            (Some(w), _) => Some(w.geometry()),
             (None, Some((g, _))) => Some(g),
             (None, None) => None,
         }
@@ -670,7 +670,7 @@ impl Simulation {
         }
         let grid = self.water.take()?;
         let key = lake::next_key();
-        self.lake_out = Some((LakeGeometry::of(&grid), key));
+        self.lake_out = Some((grid.geometry(), key));
         Some(LakeJob {
             grid,
             ops: std::mem::take(&mut self.lake_ops),

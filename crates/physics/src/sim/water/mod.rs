@@ -222,6 +222,37 @@ fn positive(field: &str, v: f64) -> Result<(), ParamError> {
     }
 }
 
+/// Where a lake lies: its grid's columns and cell (kept by `Simulation` while the grid is handed
+/// out, `sim::lake`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LakeGeometry {
+    /// Columns along x.
+    pub nx: usize,
+    /// Columns along y.
+    pub ny: usize,
+    /// Column width (m).
+    pub cell: f64,
+    /// The −x, −y corner (m).
+    pub origin: [f64; 2],
+}
+
+impl LakeGeometry {
+    /// The +x, +y corner (m).
+    pub fn far_corner(&self) -> [f64; 2] {
+        let [ox, oy] = self.origin;
+        [
+            ox + self.nx as f64 * self.cell,
+            oy + self.ny as f64 * self.cell,
+        ]
+    }
+
+    /// Whether world (x, y) lies over the lake.
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        let ([ox, oy], [hx, hy]) = (self.origin, self.far_corner());
+        x >= ox && y >= oy && x < hx && y < hy
+    }
+}
+
 /// The water surface: columns joined by pipes (see the module documentation).
 #[derive(Debug, Clone)]
 pub struct WaterGrid {
@@ -381,6 +412,16 @@ impl WaterGrid {
     }
 
     // --- geometry and clock -------------------------------------------------------------------
+
+    /// Where the grid lies: its columns and cell.
+    pub fn geometry(&self) -> LakeGeometry {
+        LakeGeometry {
+            nx: self.cfg.nx,
+            ny: self.cfg.ny,
+            cell: self.cfg.cell,
+            origin: self.cfg.origin,
+        }
+    }
 
     /// Columns along x.
     pub fn nx(&self) -> usize {

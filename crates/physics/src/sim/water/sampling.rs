@@ -126,9 +126,7 @@ impl WaterGrid {
 
     /// Whether world (x, y) lies over the grid.
     pub fn contains(&self, x: f64, y: f64) -> bool {
-        let [ox, oy] = self.cfg.origin;
-        let l = self.cfg.cell;
-        x >= ox && y >= oy && x < ox + self.cfg.nx as f64 * l && y < oy + self.cfg.ny as f64 * l
+        self.geometry().contains(x, y)
     }
 
     /// Surface elevation η (m) above the rest level z = 0 at world (x, y), bilinear between column
