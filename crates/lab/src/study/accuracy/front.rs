@@ -10,8 +10,8 @@
 use crate::sim::params::{Preset, Quadrature};
 
 use super::{
-    discretisation_name, errors, is_discretisation, measure, shipped_default, triangles,
-    Discretisation, Errors, RunStats, FLOOR,
+    discretisation_name, errors, is_discretisation, measure, triangles, Discretisation, Errors,
+    RunStats, FLOOR,
 };
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use crate::study::style::{colors, Rgb};
@@ -90,7 +90,7 @@ pub struct FrontThrow {
 /// (15 m/s released from 15 cm, so it meets the water at a shallower angle; issue 41 asks for
 /// both).
 pub fn front_throws() -> Vec<FrontThrow> {
-    let mut base = shipped_default();
+    let mut base = Preset::default();
     base.water.enabled = false;
     let mut fast = base.clone();
     fast.launch.velocity[0] = 15.0;
@@ -795,7 +795,7 @@ mod tests {
     /// The sweep contains the shipped default's own mesh and tolerance, so the report can place it.
     #[test]
     fn the_full_sweep_contains_the_shipped_setting() {
-        let p = shipped_default();
+        let p = Preset::default();
         let sweep = front_settings(false);
         let bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
         assert!(sweep.meshes.contains(&(p.stone.segments, bands)));

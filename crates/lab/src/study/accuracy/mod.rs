@@ -193,13 +193,6 @@ pub const REF_TICK: f64 = 5e-4;
 pub fn shipped_tick() -> f64 {
     Preset::version_1().physics.dt
 }
-/// The shipped default throw (`assets/presets/default.ron` as compiled in, `Preset::default()`):
-/// its lens and its lake are what the app shows, and the study's text compares them with the
-/// built-in defaults it runs (`Preset::version_1()`).
-pub fn shipped_default() -> Preset {
-    Preset::default()
-}
-
 /// Tolerance of the reference runs.
 pub const REF_TOLERANCE: f64 = 1e-12;
 
@@ -515,7 +508,7 @@ fn band_cases(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<(String, Preset)>, 
         .map(|t| Ok((t.key.to_string(), throws::preset(t, &b)?)))
         .collect::<Result<Vec<_>, StudyError>>()?;
     if !ctx.quick {
-        let mut d = shipped_default();
+        let mut d = Preset::default();
         d.water.enabled = false;
         d.physics.dt = REF_TICK;
         d.physics.tolerance = RESOLUTION_TOLERANCE;
@@ -839,7 +832,7 @@ mod tests {
     /// preset loads, and the full sweeps include its segments and its cell.
     #[test]
     fn the_shipped_lens_and_cell_are_in_the_full_sweeps() {
-        let p = shipped_default();
+        let p = Preset::default();
         assert!(mesh_segments(false).contains(&p.stone.segments));
         let shipped_bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
         assert!(band_meshes(false).contains(&(p.stone.segments, shipped_bands)));
