@@ -171,6 +171,7 @@ fn preset() -> impl Strategy<Value = Preset> {
                     } else {
                         LagLength::Radius
                     },
+                    ..MemoryParams::default()
                 });
                 if smooth {
                     // The smooth lens (flat water only; validation refuses the rest).

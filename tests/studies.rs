@@ -231,3 +231,8 @@ fn phase_map_does_not_depend_on_thread_count() {
     };
     assert_eq!(run(1), run(3));
 }
+
+#[test]
+fn quick_first_bounce_writes_its_outputs() {
+    quick("first_bounce");
+}

@@ -211,7 +211,11 @@ fn the_memory_never_gains_energy() {
         (1.5, LagLength::Radius),
     ];
     for (lag, length) in memories {
-        let kappa = MemoryParams { lag, length };
+        let kappa = MemoryParams {
+            lag,
+            length,
+            ..MemoryParams::default()
+        };
         for (speed, vz) in [(12.0, -0.1), (8.0, -1.5)] {
             let mut p = tangential(speed);
             p.launch.velocity[2] = vz;

@@ -1492,6 +1492,7 @@ mod tests {
                 Some(LagLength::Wetted) => LagLength::Radius,
                 _ => LagLength::Wetted,
             },
+            ..MemoryParams::default()
         });
         let mut w = p.water;
         w.enabled = !w.enabled;

@@ -67,7 +67,7 @@ impl Deriv {
         if self.relax > 0.0 {
             WettedMemory::relax(d_e, d_e + self.dm / self.relax, self.relax, h)
         } else {
-            d_e
+            (d_e + self.dm * h).clamp(0.0, MAX_MEMORY)
         }
     }
 }
@@ -201,8 +201,9 @@ impl Dynamics<'_> {
             let clearance =
                 lowest_clearance(self.stone, pose.position, pose.orientation, self.surface);
             let d_g = geometric_immersion(clearance);
-            relax = memory.relax_rate(pose.orientation, pose.velocity, d_g);
-            dm = (d_g - s.memory) * relax;
+            let rates = memory.rates(pose.orientation, pose.velocity, pose.angular_velocity, d_g);
+            relax = rates.relax;
+            dm = rates.lead + (d_g - s.memory) * relax;
             pose.position = lowered(s, d_g);
             wet = Some(clearance <= 0.0);
         }

@@ -52,6 +52,19 @@ pub(crate) struct WettedMemory {
     pub shape: Shape,
     /// R (m): a disk's or lens's radius, half a plate's length along body x.
     pub radius: f64,
+    /// Π_c (`None`: a lag independent of the contact's reduced frequency).
+    pub strip_frequency: Option<f64>,
+    /// A, Wagner's entry lead.
+    pub entry_lead: f64,
+}
+
+/// The memory's rates at one state: dd_e/dt = `lead` + (d_g − d_e) · `relax`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct MemoryRates {
+    /// 1/τ (1/s).
+    pub relax: f64,
+    /// A·max(ḋ_g, 0) (m/s).
+    pub lead: f64,
 }
 
 impl WettedMemory {
@@ -67,7 +80,34 @@ impl WettedMemory {
             length: params.length,
             shape: *shape,
             radius,
+            strip_frequency: params.strip_frequency,
+            entry_lead: params.entry_lead,
         })
+    }
+
+    /// The rates of a stone at `orientation` moving at `velocity` and turning at `spin` (world),
+    /// its lowest point `d_g` below the ambient surface: ḋ_g is the lowest point's sinking speed
+    /// (the support point's velocity, by the envelope theorem), ṡ_g = (∂s_g/∂d_g) ḋ_g.
+    pub fn rates(&self, orientation: DQuat, velocity: DVec3, spin: DVec3, d_g: f64) -> MemoryRates {
+        let needs_rate = self.strip_frequency.is_some() || self.entry_lead > 0.0;
+        if !needs_rate {
+            return MemoryRates {
+                relax: self.relax_rate(orientation, velocity, d_g),
+                lead: 0.0,
+            };
+        }
+        let offset = orientation * lowest_point(&self.shape, orientation);
+        let sinking = -(velocity + spin.cross(offset)).z;
+        let lead = self.entry_lead * sinking.max(0.0);
+        let mut relax = self.relax_rate(orientation, velocity, d_g);
+        if let Some(pc) = self.strip_frequency {
+            let floor = MIN_WETTED_SHARE * self.radius;
+            let growth = wetted_growth(&self.shape, orientation, velocity, d_g, floor) * sinking;
+            let pi = (growth.abs() / velocity.length()).min(MAX_REDUCED_FREQUENCY);
+            let r = relax * (1.0 + pi / pc);
+            relax = if r.is_finite() { r } else { 0.0 };
+        }
+        MemoryRates { relax, lead }
     }
 
     /// 1/τ = |U| / (λ L) (1/s) of a stone at `orientation` (stone → world) moving at `velocity`
@@ -90,6 +130,54 @@ impl WettedMemory {
     /// stable at any step: the fixed-step integrators use it).
     pub fn relax(d_e: f64, d_g: f64, rate: f64, h: f64) -> f64 {
         (d_g + (d_e - d_g) * (-rate * h).exp()).clamp(0.0, MAX_MEMORY)
+    }
+}
+
+/// The largest reduced frequency Π the lag is shortened by: the strip's curves reach ω̂ = 5
+/// (first_bounce_memory.md §2); at the first instant of a touch ∂s_g/∂d_g is unbounded.
+pub(crate) const MAX_REDUCED_FREQUENCY: f64 = 5.0;
+
+/// ∂s_g/∂d_g (dimensionless) by a central difference over a depth step of a thousandth of the
+/// radius, one-sided at the surface.
+fn wetted_growth(shape: &Shape, orientation: DQuat, velocity: DVec3, d_g: f64, floor: f64) -> f64 {
+    let eps = 0.1 * floor;
+    let lo = (d_g - eps).max(0.0);
+    let hi = d_g + eps;
+    let s = |d: f64| wetted_length(shape, orientation, velocity, d).max(floor);
+    (s(hi) - s(lo)) / (hi - lo)
+}
+
+/// The lowest point of the stone's shape (body frame) when `orientation` (stone → world) holds
+/// it: the support point along the world's down direction (a lens's ellipsoid, a disk's bottom
+/// rim, a plate's bottom corner).
+pub(crate) fn lowest_point(shape: &Shape, orientation: DQuat) -> DVec3 {
+    let u = orientation.inverse() * DVec3::Z;
+    match *shape {
+        Shape::Lens { radius, thickness } => {
+            let axes = DVec3::new(radius, radius, 0.5 * thickness);
+            let m = axes * axes * u;
+            let norm = (axes * u).length();
+            if norm > 0.0 {
+                -m / norm
+            } else {
+                DVec3::ZERO
+            }
+        }
+        Shape::Disk { radius, thickness } => {
+            let h = DVec3::new(u.x, u.y, 0.0)
+                .try_normalize()
+                .unwrap_or(DVec3::ZERO);
+            -h * radius - DVec3::Z * (0.5 * thickness).copysign(u.z)
+        }
+        Shape::Plate {
+            length,
+            width,
+            thickness,
+        } => -DVec3::new(
+            (0.5 * length).copysign(u.x),
+            (0.5 * width).copysign(u.y),
+            (0.5 * thickness).copysign(u.z),
+        ),
     }
 }
 
@@ -167,6 +255,7 @@ mod tests {
             Some(MemoryParams {
                 lag,
                 length: radius,
+                ..MemoryParams::default()
             })
         };
         assert!(WettedMemory::new(p(0.0), &lens).is_none());
@@ -194,6 +283,7 @@ mod tests {
         let params = MemoryParams {
             lag: 0.2,
             length: LagLength::Radius,
+            ..MemoryParams::default()
         };
         let m = WettedMemory::new(Some(params), &lens).unwrap();
         let rate = m.relax_rate(DQuat::IDENTITY, DVec3::X * 12.0, 1e-3);
@@ -276,5 +366,158 @@ mod wetted_length_tests {
             }
         }
         assert!((got - (hi - lo)).abs() < 1e-9, "{got} against {}", hi - lo);
+    }
+}
+
+#[cfg(test)]
+mod law_tests {
+    use super::*;
+
+    fn lens() -> Shape {
+        Shape::Lens {
+            radius: 0.05,
+            thickness: 0.012,
+        }
+    }
+
+    fn memory(shape: Shape, strip_frequency: Option<f64>, entry_lead: f64) -> WettedMemory {
+        let params = MemoryParams {
+            lag: 2.0,
+            length: LagLength::Wetted,
+            strip_frequency,
+            entry_lead,
+        };
+        WettedMemory::new(Some(params), &shape).unwrap()
+    }
+
+    /// The lowest point is the support point: no point of the shape lies lower along the world's
+    /// up direction, for a lens, a disk and a plate at any attitude.
+    #[test]
+    fn the_lowest_point_is_lowest() {
+        let shapes = [
+            lens(),
+            Shape::Disk {
+                radius: 0.03,
+                thickness: 0.004,
+            },
+            Shape::Plate {
+                length: 0.1,
+                width: 0.06,
+                thickness: 0.005,
+            },
+        ];
+        for shape in shapes {
+            for (tilt, bank, heading) in [
+                (20.0f64, 0.0f64, 0.0f64),
+                (7.0, -30.0, 40.0),
+                (-15.0, 60.0, 200.0),
+            ] {
+                let q = DQuat::from_rotation_z(heading.to_radians())
+                    * DQuat::from_rotation_x(bank.to_radians())
+                    * DQuat::from_rotation_y(-tilt.to_radians());
+                let low = (q * lowest_point(&shape, q)).z;
+                // Sample the shape's surface: a lens's ellipsoid, a disk's rims, a plate's corners.
+                let mut lowest_sample = f64::INFINITY;
+                for i in 0..720 {
+                    let phi = i as f64 * std::f64::consts::TAU / 720.0;
+                    for j in 0..=90 {
+                        let p = match shape {
+                            Shape::Lens { radius, thickness } => {
+                                let th = (j as f64 / 90.0 - 0.5) * std::f64::consts::PI;
+                                DVec3::new(
+                                    radius * th.cos() * phi.cos(),
+                                    radius * th.cos() * phi.sin(),
+                                    0.5 * thickness * th.sin(),
+                                )
+                            }
+                            Shape::Disk { radius, thickness } => DVec3::new(
+                                radius * phi.cos(),
+                                radius * phi.sin(),
+                                if j % 2 == 0 { 0.5 } else { -0.5 } * thickness,
+                            ),
+                            Shape::Plate {
+                                length,
+                                width,
+                                thickness,
+                            } => DVec3::new(
+                                0.5 * length * if i % 2 == 0 { 1.0 } else { -1.0 },
+                                0.5 * width * if (i / 2) % 2 == 0 { 1.0 } else { -1.0 },
+                                0.5 * thickness * if j % 2 == 0 { 1.0 } else { -1.0 },
+                            ),
+                        };
+                        lowest_sample = lowest_sample.min((q * p).z);
+                    }
+                }
+                // The sampled surface can only be as low as the support point, and its sampling
+                // misses it by at most the chord sag of a 0.5° step on the largest radius.
+                assert!(
+                    low <= lowest_sample + 1e-12,
+                    "{shape:?} {tilt}: {low} > {lowest_sample}"
+                );
+                assert!(
+                    lowest_sample - low < 0.06 * 4e-5,
+                    "{shape:?} {tilt}: {low} vs {lowest_sample}"
+                );
+            }
+        }
+    }
+
+    /// Without Π_c and lead the rates are issue 38's law, bit for bit.
+    #[test]
+    fn without_the_new_terms_the_law_is_unchanged() {
+        let m = memory(lens(), None, 0.0);
+        let q = DQuat::from_rotation_y(-0.2);
+        for d in [1e-5, 1e-3, 4e-3] {
+            let r = m.rates(
+                q,
+                DVec3::new(12.0, 0.0, -0.8),
+                DVec3::new(0.0, 3.0, 80.0),
+                d,
+            );
+            assert_eq!(r.relax, m.relax_rate(q, DVec3::new(12.0, 0.0, -0.8), d));
+            assert_eq!(r.lead, 0.0);
+        }
+    }
+
+    /// On a disk's flat face s_g = d/tan α, so ṡ_g = ḋ_g/tan α and the strip's lag is
+    /// τ = λ s_g / (|U| + |ṡ_g|/Π_c); the lead is A·ḋ_g while sinking and 0 while rising.
+    #[test]
+    fn the_strip_lag_shortens_with_the_growth_of_the_wetted_length() {
+        let disk = Shape::Disk {
+            radius: 0.025,
+            thickness: 0.00275,
+        };
+        let (alpha, pc, lead) = (20f64.to_radians(), 0.12, 0.75);
+        let m = memory(disk, Some(pc), lead);
+        let q = DQuat::from_rotation_y(-alpha);
+        let d = 4e-3;
+        let v = DVec3::new(3.3, 0.0, -1.2);
+        let r = m.rates(q, v, DVec3::ZERO, d);
+        let s = d / alpha.tan();
+        let s_dot = 1.2 / alpha.tan();
+        let want = (v.length() + s_dot / pc) / (2.0 * s);
+        assert!(
+            (r.relax / want - 1.0).abs() < 1e-6,
+            "{} against {want}",
+            r.relax
+        );
+        assert!((r.lead - lead * 1.2).abs() < 1e-12, "{}", r.lead);
+        // Rising: the lag shortens as much (|ṡ_g|), the lead is off.
+        let up = DVec3::new(3.3, 0.0, 1.2);
+        let r = m.rates(q, up, DVec3::ZERO, d);
+        assert!((r.relax / want - 1.0).abs() < 1e-6);
+        assert_eq!(r.lead, 0.0);
+        // A spin about the axis does not move the lowest point of a body of revolution.
+        let spun = m.rates(q, v, q * DVec3::Z * 400.0, d);
+        assert!((spun.relax / want - 1.0).abs() < 1e-6 && (spun.lead - lead * 1.2).abs() < 1e-9);
+        // Π is capped: at the first instant of a lens's touch ∂s_g/∂d_g is unbounded.
+        let m = memory(lens(), Some(pc), 0.0);
+        let r = m.rates(q, v, DVec3::ZERO, 0.0);
+        let cap = m.relax_rate(q, v, 0.0) * (1.0 + MAX_REDUCED_FREQUENCY / pc);
+        assert!(
+            r.relax.is_finite() && r.relax <= cap * (1.0 + 1e-12),
+            "{}",
+            r.relax
+        );
     }
 }

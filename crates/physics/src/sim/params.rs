@@ -618,6 +618,15 @@ pub struct MemoryParams {
     pub lag: f64,
     /// Which length L the lag scales: the wetted length s_g or the radius R.
     pub length: LagLength,
+    /// Π_c: the lag shortens with the contact's reduced frequency Π = |ṡ_g|/|U| as
+    /// τ = λ L/(|U| (1 + Π/Π_c)), the linearised Wagner strip's lag against its reduced frequency
+    /// (docs/studies/wagner_lag, its b/s = 2–3 curves: Π_c ≈ 0.09–0.15). `None` (omitted): a lag
+    /// that does not depend on Π, the law of every preset written before this field.
+    pub strip_frequency: Option<f64>,
+    /// A: Wagner's entry lead, dd_e/dt = A·max(ḋ_g, 0) + (d_g − d_e)/τ: the wetted extent of an
+    /// entering body outruns the geometric intersection (Wagner 1932). 0 (omitted): relaxation
+    /// alone, the law of every preset written before this field.
+    pub entry_lead: f64,
 }
 
 impl Default for MemoryParams {
@@ -625,6 +634,8 @@ impl Default for MemoryParams {
         Self {
             lag: 2.0,
             length: LagLength::Wetted,
+            strip_frequency: None,
+            entry_lead: 0.0,
         }
     }
 }
@@ -1109,6 +1120,16 @@ impl Physics {
         check_range("physics.tolerance", self.tolerance, 1e-12, 1e-2, "")?;
         if let Some(m) = self.wetted_memory {
             check_positive("physics.wetted_memory.lag", m.lag, 100.0, "")?;
+            if let Some(pc) = m.strip_frequency {
+                check_positive("physics.wetted_memory.strip_frequency", pc, 100.0, "")?;
+            }
+            check_range(
+                "physics.wetted_memory.entry_lead",
+                m.entry_lead,
+                0.0,
+                2.0,
+                "",
+            )?;
         }
         if let Some(a) = self.air {
             check_range("physics.air.density", a.density, 0.0, 100.0, "kg/m³")?;

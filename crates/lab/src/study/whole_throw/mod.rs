@@ -80,7 +80,7 @@ fn run(p: &Preset) -> Result<Run, StudyError> {
     })
 }
 
-fn shape_of(s: &Summary, p: &Preset) -> ThrowShape {
+pub(crate) fn shape_of(s: &Summary, p: &Preset) -> ThrowShape {
     throw_shape(s, [p.launch.position[0], p.launch.position[1]])
 }
 
@@ -106,7 +106,7 @@ pub const REFINEMENTS: [Change; 5] = [
 
 /// The lake's cell halved; a lake that would then pass the grid's column limit is narrowed about
 /// its middle to fit (the record throw's 140 m lake: 1.4 m either side at 1 cm).
-fn halve_cell(p: &mut Preset) {
+pub(crate) fn halve_cell(p: &mut Preset) {
     let w = &mut p.water;
     w.cell /= 2.0;
     let along = (w.size[0] / w.cell).ceil();
@@ -471,12 +471,14 @@ fn lags(quick: bool) -> Result<Vec<LagRun>, StudyError> {
             memories.push(MemoryParams {
                 lag,
                 length: LagLength::Wetted,
+                ..MemoryParams::default()
             });
         }
         for kappa in [0.2, 0.5, 1.0, 1.5] {
             memories.push(MemoryParams {
                 lag: kappa,
                 length: LagLength::Radius,
+                ..MemoryParams::default()
             });
         }
     }
