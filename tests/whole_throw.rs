@@ -200,21 +200,27 @@ fn planing_is_unstable_at_speed_and_stable_when_slow() {
 /// opposes its motion into the water; the memory only moves the waterline. With the attitude held
 /// the stone leaves a contact at the height it entered, so its speed may not grow (Adaptive to
 /// 1e-6: good to far better than 1e-4). Checked on a long, gentle run and a hard first touch, for
-/// short and long memories of both lengths.
+/// short and long memories of both lengths, and with the Wagner strip's Π-lag and Wagner's entry
+/// lead (issue 47), which only deepen the waterline while the stone sinks.
 #[test]
 fn the_memory_never_gains_energy() {
     let memories = [
-        (0.5, LagLength::Wetted),
-        (2.0, LagLength::Wetted),
-        (6.0, LagLength::Wetted),
-        (0.2, LagLength::Radius),
-        (1.5, LagLength::Radius),
+        (0.5, LagLength::Wetted, None, 0.0),
+        (2.0, LagLength::Wetted, None, 0.0),
+        (6.0, LagLength::Wetted, None, 0.0),
+        (0.2, LagLength::Radius, None, 0.0),
+        (1.5, LagLength::Radius, None, 0.0),
+        (2.0, LagLength::Wetted, Some(0.12), 0.0),
+        (2.0, LagLength::Wetted, Some(0.12), 0.75),
+        (4.0, LagLength::Wetted, None, 1.0),
+        (6.0, LagLength::Wetted, Some(1.0), 4.0 / 3.0),
     ];
-    for (lag, length) in memories {
+    for (lag, length, strip_frequency, entry_lead) in memories {
         let kappa = MemoryParams {
             lag,
             length,
-            ..MemoryParams::default()
+            strip_frequency,
+            entry_lead,
         };
         for (speed, vz) in [(12.0, -0.1), (8.0, -1.5)] {
             let mut p = tangential(speed);

@@ -1170,9 +1170,54 @@ fn memory_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
             &mut memory.length,
             &[(LagLength::Wetted, "Wetted"), (LagLength::Radius, "Radius")],
         );
+        c |= impact_memory_ui(ui, marks, memory);
     }
     c
 }
+
+/// The memory's two impact options (issue 47): the lag shortened at a fast-growing patch (the
+/// Wagner strip's Π_c) and Wagner's entry lead. With both Clanet's disc bounces as he measured; a
+/// whole throw then ends in a long glide (docs/studies/first_bounce).
+fn impact_memory_ui(ui: &mut Ui, marks: &Marks, memory: &mut MemoryParams) -> bool {
+    let mut strip = memory.strip_frequency.is_some();
+    let mut c = row(
+        ui,
+        marks,
+        "wetted memory.strip frequency",
+        "Shorter lag at impact",
+        "On: the lag shrinks when the wet patch grows fast, as at a hard first touch \
+         (τ = λ L/(|U|(1 + Π/Π_c)), Π the patch's growth over the speed; the Wagner strip's \
+         Π_c is 0.12, a larger one keeps more lag). Clanet's single bounce then lasts as he \
+         measured; whole throws glide.",
+        |ui| {
+            ui.horizontal(|ui| {
+                let mut r = ui.checkbox(&mut strip, "");
+                if let Some(pc) = memory.strip_frequency.as_mut() {
+                    r |= ui.add(slider(pc, 0.01..=10.0).logarithmic(true).text("Π_c"));
+                }
+                r
+            })
+            .inner
+        },
+    );
+    if strip != memory.strip_frequency.is_some() {
+        memory.strip_frequency = strip.then_some(STRIP_FREQUENCY);
+        c = true;
+    }
+    c |= row(
+        ui,
+        marks,
+        "wetted memory.entry lead",
+        "Entry lead A",
+        "How far the wet patch runs ahead of the stone while it goes in (Wagner 1932): 0 off, \
+         ¾ a plate with a clean trailing edge, 4/3 a plate from a fixed edge",
+        |ui| ui.add(slider(&mut memory.entry_lead, 0.0..=2.0)),
+    );
+    c
+}
+
+/// The Wagner strip's Π_c (docs/studies/wagner_lag): the value the Physics panel turns on.
+const STRIP_FREQUENCY: f64 = 0.12;
 
 /// The air in flight (`air.rs`): on or off, and its density and coefficients when on.
 fn air_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
@@ -1492,7 +1537,8 @@ mod tests {
                 Some(LagLength::Wetted) => LagLength::Radius,
                 _ => LagLength::Wetted,
             },
-            ..MemoryParams::default()
+            strip_frequency: Some(0.5),
+            entry_lead: 0.5,
         });
         let mut w = p.water;
         w.enabled = !w.enabled;

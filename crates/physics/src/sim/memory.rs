@@ -30,6 +30,21 @@
 //! ends and d_e returns to 0, so the raised line never holds the stone in the water past its
 //! geometric exit. The pressure law is unchanged, so every face's force still opposes its motion
 //! into the water: no contact gains energy. κ = 0 is the quasi-steady contact (d_e = d_g).
+//!
+//! Two options, off unless a preset names them (issue 47; first_bounce_memory.md §2–3,
+//! docs/studies/first_bounce):
+//!
+//! ```text
+//! dd_e/dt = A·max(ḋ_g, 0) + (d_g − d_e)/τ,   τ = λ L / (|U| (1 + Π/Π_c)),   Π = |ṡ_g|/|U|,
+//! ```
+//!
+//! Π_c (`strip_frequency`) the linearised Wagner strip's fall of its lag with the reduced frequency
+//! (docs/studies/wagner_lag: λ_c(ω̂)/λ_c(0) ≈ 1/(1 + ω̂/Π_c), Π_c ≈ 0.09–0.15 on its b/s = 2–3
+//! curves), ṡ_g = (∂s_g/∂d_g) ḋ_g with Π held at most [`MAX_REDUCED_FREQUENCY`]; A (`entry_lead`)
+//! Wagner's condition, the wetted extent of an entering body outrunning the geometric one (4/3 a
+//! flat plate from a fixed edge, ½–¾ with a Kutta edge and a finite patch). ḋ_g is the sinking
+//! speed of the shape's support point (the envelope theorem). The lead only deepens d_e while the
+//! stone sinks, so the faces' forces still oppose their motion: no energy is gained.
 
 use glam::{DQuat, DVec3};
 

@@ -467,6 +467,36 @@ fn finding(rows: &[LawRow]) -> String {
     )
 }
 
+/// The spin curve explained by the landing tilts, in words, from the row.
+fn spin_words(row: &LawRow) -> String {
+    let free = |rev: f64| row.spin.iter().find(|x| x.0 == rev && x.1.is_none());
+    let held = |rev: f64, tilt: f64| row.spin.iter().find(|x| x.0 == rev && x.1 == Some(tilt));
+    let (Some(moderate), Some(fast), Some(flat), Some(steep)) = (
+        free(15.0),
+        free(150.0),
+        held(150.0, HELD_TILTS[1]),
+        held(150.0, HELD_TILTS[0]),
+    ) else {
+        return String::new();
+    };
+    format!(
+        "\nAt human spin the first contact turns the stone flatter: at 15 rev/s it lands its \
+         second touch at {:.1}° ({} skips), at 150 rev/s, stiff as a gyroscope, at {:.1}° ({} \
+         skips). Held at {}° the stone makes {} skips, held at its launch tilt of {}° {}: the \
+         peak of the count at moderate spin is the flatter attitude the first contact leaves, \
+         and the high-spin count is the held one (Clanet et al. 2004: in the high-spin limit the \
+         tilt stays constant along the impact).\n",
+        moderate.2.tilts[1],
+        moderate.2.shape.skips,
+        fast.2.tilts[1],
+        fast.2.shape.skips,
+        HELD_TILTS[1],
+        flat.2.shape.skips,
+        HELD_TILTS[0],
+        steep.2.shape.skips,
+    )
+}
+
 fn report(r: &FirstBounce) -> String {
     let shipped = r.rows.iter().find(|x| x.law == LAWS[SHIPPED_LAW]);
     let mut s = String::from(
@@ -521,6 +551,7 @@ fn report(r: &FirstBounce) -> String {
             row.law.name
         ));
         s.push_str(&spin_table(row));
+        s.push_str(&spin_words(row));
     }
     s
 }
