@@ -535,7 +535,10 @@ pub fn held_at(tilt: f64) -> Preset {
     p
 }
 
-pub fn spin_rows(quick: bool) -> Result<(Vec<SpinRow>, Vec<(f64, usize)>), StudyError> {
+/// Skips with the attitude held, per tilt (degrees).
+pub type HeldCurve = Vec<(f64, usize)>;
+
+pub fn spin_rows(quick: bool) -> Result<(Vec<SpinRow>, HeldCurve), StudyError> {
     let rows: Vec<SpinRow> = spins(quick)
         .par_iter()
         .map(|&s| {
@@ -736,7 +739,7 @@ mod tests {
     #[test]
     fn the_shipped_centre_of_pressure_is_a_flat_plates() {
         let m = moment_check(&default_throw());
-        assert!(CP_THIN_AEROFOIL < CP_SLENDER_CIRCLE);
+        const { assert!(CP_THIN_AEROFOIL < CP_SLENDER_CIRCLE) };
         assert!(m.cp_ahead > 0.0 && m.cp_ahead <= CP_THIN_AEROFOIL, "{m:?}");
         assert!(CP_THIN_AEROFOIL - m.cp_ahead < 0.1, "{m:?}");
     }
