@@ -219,6 +219,7 @@ fn spin_figure(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
     )
     .log_x()
     .x_range(0.8, 200.0)
+    .y_range(-1.0, 36.0)
     .legend(Legend::UpperRight)
     .series(Series::new(
         "skips, free",
