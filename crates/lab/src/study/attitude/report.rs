@@ -678,6 +678,13 @@ fn spin_findings(r: &Results) -> String {
             x.held_at_mean
         ));
     }
+    for x in r.spin.iter().filter(|x| x.mean_bank > 60.0) {
+        s.push_str(&format!(
+            "- At {} rev/s the stone banks steeply or turns over (mean |bank| {:.0}°) and makes {} skips: its mean \
+             tilt is not an attitude it holds, and the held count beside it means nothing.\n",
+            x.rev_s, x.mean_bank, x.free.skips
+        ));
+    }
     if let Some(t) = held_tilt(2.5) {
         s.push_str(&format!(
             "- Held nose-flat (2.5°) the default makes {t} skips.\n"
