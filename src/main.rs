@@ -76,7 +76,7 @@ enum Command {
         #[arg(long, default_value_t = 1.0)]
         exaggerate: f32,
     },
-    /// Runs a study (accuracy, stability, phase, defaults, fidelity, whole_throw, first_bounce; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
+    /// Runs a study (accuracy, stability, phase, defaults, fidelity, whole_throw, first_bounce, attitude; spin: the phase study's spin axis alone) and writes CSV, PNG and Markdown.
     Study {
         name: String,
         #[arg(long)]

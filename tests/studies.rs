@@ -204,6 +204,11 @@ fn quick_defaults_writes_its_outputs() {
 }
 
 #[test]
+fn quick_attitude_writes_its_outputs() {
+    quick("attitude");
+}
+
+#[test]
 fn unknown_study_names_the_valid_ones() {
     let tmp = tempfile::tempdir().unwrap();
     let e = run_study("nonsense", tmp.path(), true)

@@ -239,6 +239,18 @@ pub const ABOUT_OPENING: &[(&str, &str)] = &[
          skips even when thrown slowly. That is the \"magic angle\" found in experiments.",
     ),
     (
+        "Why the landing decides a throw",
+        "A spinning stone is a gyroscope: a push that would tip it over turns it sideways \
+         instead, slowly if it spins fast. In the air, the wind under a tilted stone lifts its \
+         front edge, and that push slowly rolls a spinning stone onto its side, like a Frisbee \
+         that curves away; the faster the throw and the longer the flight, the more it rolls. \
+         Each touch of the water pushes up behind the centre and turns it again. So every \
+         landing finds the stone a little differently placed: front edge up and nearly level, \
+         and it skips on; nose down, too flat or steeply on its side, and it digs in and sinks. \
+         That is why a slightly heavier stone or a slightly faster throw can make many fewer \
+         skips: a few degrees at one landing decide. More spin makes each turn smaller.",
+    ),
+    (
         "What the simulator does",
         "It cuts the stone into thousands of small triangles. A little at a time (a few \
          thousandths of a second, much less while the stone touches the water) it finds which \

@@ -10,6 +10,7 @@
 //! wall-time cost axis; the deterministic cost is the simulation's force-evaluation count.
 
 pub mod accuracy;
+pub mod attitude;
 pub mod defaults;
 pub mod fidelity;
 pub mod first_bounce;
@@ -32,7 +33,7 @@ use crate::sim::params::ParamError;
 use crate::sim::SimError;
 
 /// The studies `run_study` knows, in the order `all` runs them.
-pub const STUDIES: [&str; 7] = [
+pub const STUDIES: [&str; 8] = [
     "accuracy",
     "stability",
     "phase",
@@ -40,13 +41,14 @@ pub const STUDIES: [&str; 7] = [
     "fidelity",
     "whole_throw",
     "first_bounce",
+    "attitude",
 ];
 
 /// Errors of the studies.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
     #[error(
-        "unknown study `{0}`; valid names: accuracy, stability, phase, defaults, fidelity, whole_throw, first_bounce, spin, all"
+        "unknown study `{0}`; valid names: accuracy, stability, phase, defaults, fidelity, whole_throw, first_bounce, spin, attitude, all"
     )]
     Unknown(String),
     #[error(transparent)]
@@ -142,7 +144,7 @@ impl Ctx {
 }
 
 /// Runs study `name` ("accuracy", "stability", "phase", "defaults", "fidelity", "whole_throw",
-/// "first_bounce", "spin" or "all") into `out`; `quick`
+/// "first_bounce", "spin", "attitude" or "all") into `out`; `quick`
 /// takes coarse grids (CI). With "all", each study writes into its own subfolder of `out`.
 pub fn run_study(name: &str, out: &Path, quick: bool) -> anyhow::Result<()> {
     install_ctrlc();
@@ -183,6 +185,7 @@ fn run_one(name: &str, out: &Path, quick: bool) -> Result<f64, StudyError> {
         "fidelity" => fidelity::run(&Ctx::new("fidelity", out, quick)?)?,
         "whole_throw" => whole_throw::run_study(&Ctx::new("whole_throw", out, quick)?)?,
         "first_bounce" => first_bounce::run_study(&Ctx::new("first_bounce", out, quick)?)?,
+        "attitude" => attitude::run(&Ctx::new("attitude", out, quick)?)?,
         // The phase study's spin axis alone (`phase` runs it too).
         "spin" => {
             let ctx = Ctx::new("spin", out, quick)?;
@@ -265,7 +268,7 @@ mod tests {
         assert!(
             e.contains("nope")
                 && e.contains(
-                    "accuracy, stability, phase, defaults, fidelity, whole_throw, first_bounce, spin, all"
+                    "accuracy, stability, phase, defaults, fidelity, whole_throw, first_bounce, spin, attitude, all"
                 ),
             "{e}"
         );
