@@ -251,6 +251,17 @@ pub const ABOUT_OPENING: &[(&str, &str)] = &[
          skips: a few degrees at one landing decide. More spin makes each turn smaller.",
     ),
     (
+        "Where the simulator still falls short",
+        "In the experiments a small disc coming down as steeply as about 45° still bounces, and \
+         a hard first touch lasts about a thirtieth of a second. In the simulator it bounces only \
+         up to about 33°, and that touch lasts twice as long. The cause is the water's lag: the \
+         water under a fast stone takes a moment to rise, and that is what lets a fast stone \
+         skip again and again instead of gliding flat. But the same lag holds back the push of a \
+         hard first touch. No rule for the water tried so far gets both right. In the Physics \
+         panel, Shorter lag at impact and Entry lead give the first bounce the experiments \
+         measured; a whole throw then ends in a long glide.",
+    ),
+    (
         "What the simulator does",
         "It cuts the stone into thousands of small triangles. A little at a time (a few \
          thousandths of a second, much less while the stone touches the water) it finds which \
