@@ -219,10 +219,12 @@ pub fn presets(base: &Preset, spec: &Spec) -> Vec<Preset> {
 /// Throws the whole sweep on rayon's pool (every core), in value order; `stop` ends it early
 /// (throws not run are left out).
 pub fn run(base: &Preset, spec: &Spec, stop: &AtomicBool) -> Vec<Point> {
-    let jobs = presets(base, spec);
+    let jobs: Vec<(f64, Preset)> = spec.values().into_iter().zip(presets(base, spec)).collect();
+    // Each point keeps the value as swept (7, not the 6.999999999999999 a speed reads back
+    // from its velocity).
     let points: Vec<Option<Point>> = jobs
         .par_iter()
-        .map(|p| (!stop.load(Ordering::Relaxed)).then(|| throw(spec.knob.get(p), p, stop)))
+        .map(|(x, p)| (!stop.load(Ordering::Relaxed)).then(|| throw(*x, p, stop)))
         .collect();
     points.into_iter().flatten().collect()
 }
@@ -468,6 +470,10 @@ mod tests {
         p.water.wavy_contact = true;
         let wavy = throw(13.5, &p, &stop);
         assert!(!wavy.result, "{}", wavy.outcome);
-        assert!(wavy.outcome.starts_with("left the lake"), "{}", wavy.outcome);
+        assert!(
+            wavy.outcome.starts_with("left the lake"),
+            "{}",
+            wavy.outcome
+        );
     }
 }

@@ -296,6 +296,28 @@ fn sweep_writes_the_experiments_export_byte_for_byte() {
     let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(rows.len(), 5, "{text}");
     assert!(rows[2].starts_with("20,"), "{text}");
+    // A swept speed is written as swept: 7, not the 6.999999999999999 its velocity reads back.
+    let speeds = stoneskip(&[
+        "sweep",
+        "--preset",
+        "magic_angle",
+        "--vary",
+        "speed",
+        "--from",
+        "6",
+        "--to",
+        "8",
+        "--count",
+        "3",
+    ]);
+    let speeds = String::from_utf8_lossy(&speeds.stdout);
+    let first: Vec<&str> = speeds
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap_or(""))
+        .collect();
+    assert_eq!(first, ["6", "7", "8"], "{speeds}");
     let help = stoneskip(&["sweep", "--help"]);
     let help = String::from_utf8_lossy(&help.stdout);
     for words in ["Experiments panel", "every core", "tilt (degrees)"] {

@@ -42,10 +42,13 @@ impl Experiment {
         let presets = crate::sweep::presets(base, &spec);
         let (sender, receiver) = channel();
         let stop = Arc::new(AtomicBool::new(false));
-        let jobs: Vec<(usize, f64, Preset)> = presets
-            .iter()
+        // The value as swept (the CSV's first column, as `stoneskip sweep` writes it).
+        let jobs: Vec<(usize, f64, Preset)> = spec
+            .values()
+            .into_iter()
+            .zip(&presets)
             .enumerate()
-            .map(|(i, p)| (i, spec.knob.get(p), p.clone()))
+            .map(|(i, (x, p))| (i, x, p.clone()))
             .collect();
         let flag = stop.clone();
         // All cores but one: the app's own thread keeps drawing.
