@@ -767,6 +767,17 @@ fn experiments_leave_the_view_most_of_the_height() {
     h.get_by_role_and_label(Role::Button, "Experiments").click();
     h.run_ok();
     assert!(h.state().show_experiments);
+    // With results on its charts, as a class sees it.
+    type_into(&mut h, "Throws", "3");
+    h.get_by_role_and_label(Role::Button, "Run the experiment")
+        .click();
+    let t0 = std::time::Instant::now();
+    while h.state().experiment.as_ref().is_none_or(|e| !e.finished()) {
+        assert!(t0.elapsed().as_secs() < 120, "the sweep did not finish");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        h.step();
+    }
+    pause(&mut h, 3);
     let view = h.state().view_rect.height();
     assert!(view >= 0.6 * 720.0, "the view is {view} px of 720");
 }
