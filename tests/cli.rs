@@ -236,7 +236,9 @@ fn preset_by_shipped_name() {
 }
 
 /// Issue 48: `stoneskip sweep` writes the table the Experiments panel exports, byte for byte
-/// (one compute and one writer serve both), and says in plain words what it does.
+/// (one compute and one writer serve both), and says in plain words what it does. The panel is
+/// the app's (the `app` feature).
+#[cfg(feature = "app")]
 #[test]
 fn sweep_writes_the_experiments_export_byte_for_byte() {
     use stoneskip::app::experiments::Experiment;
