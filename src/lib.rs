@@ -16,6 +16,7 @@ pub mod app;
 #[cfg(feature = "app")]
 pub use stoneskip_render as render;
 pub mod report;
+pub mod sweep;
 #[cfg(feature = "app")]
 pub mod ui;
 

@@ -55,6 +55,37 @@ enum Command {
         #[arg(long)]
         step_water: bool,
     },
+    /// Throws a preset many times, changing one launch value from one number to another, and
+    /// writes the results as a CSV table: the same table the app's Experiments panel exports.
+    ///
+    /// Each throw runs headless, like `simulate`, on every core of the machine. The table has
+    /// one row per throw: the value, the skips, the distance (m), how the throw ended in words,
+    /// whether that is a result of the throw (no: the lake's edge or the time limit stopped
+    /// it), and the work it took. Lines starting with # say what was swept and on which preset.
+    ///
+    /// Example: stoneskip sweep --preset magic_angle --vary tilt --from 0 --to 45 --count 46
+    Sweep {
+        /// A preset file (RON), or a shipped preset's name (see `simulate --help`).
+        #[arg(long)]
+        preset: PathBuf,
+        /// What to change: speed (m/s), tilt (degrees), spin (rev/s), height (m) or mass (kg).
+        #[arg(long)]
+        vary: String,
+        /// The first value, in the unit above (default: a range worth trying first, e.g. tilt
+        /// from 0 to 45 degrees).
+        #[arg(long)]
+        from: Option<f64>,
+        /// The last value, in the same unit.
+        #[arg(long)]
+        to: Option<f64>,
+        /// How many throws, both ends included (2 to 200; default: a round step, e.g. every
+        /// degree of tilt).
+        #[arg(long)]
+        count: Option<usize>,
+        /// The CSV file to write (default: print the table).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Renders the scene at time T offscreen to a PNG.
     Render {
         /// A preset file (RON), or a shipped preset's name (see `simulate --help`).
@@ -128,6 +159,75 @@ fn run() -> Result<()> {
                 .with_context(|| format!("rendering {}", out.display()))
         }
         Some(Command::Study { name, out, quick }) => run_study(&name, &out, quick),
+        Some(Command::Sweep {
+            preset,
+            vary,
+            from,
+            to,
+            count,
+            out,
+        }) => sweep(&preset, &vary, from, to, count, out.as_deref()),
+    }
+}
+
+/// `sweep`: the Experiments panel's table, headless, on every core.
+fn sweep(
+    path: &Path,
+    vary: &str,
+    from: Option<f64>,
+    to: Option<f64>,
+    count: Option<usize>,
+    out: Option<&Path>,
+) -> Result<()> {
+    use stoneskip::sweep::{Knob, Spec, MAX_THROWS};
+    let p: Preset = preset::load_file_or_shipped(path)?;
+    let knob = Knob::parse(vary).with_context(|| {
+        format!("unknown value to vary \"{vary}\" (expected speed, tilt, spin, height or mass)")
+    })?;
+    let suggested = Spec::suggested(knob);
+    let spec = Spec {
+        knob,
+        from: from.unwrap_or(suggested.from),
+        to: to.unwrap_or(suggested.to),
+        count: count.unwrap_or(suggested.count),
+    };
+    let (lo, hi) = knob.range();
+    for (name, v) in [("--from", spec.from), ("--to", spec.to)] {
+        if !(lo..=hi).contains(&v) {
+            anyhow::bail!(
+                "{name} {v} is outside {}'s range, {lo} to {hi} {}",
+                knob.name().to_lowercase(),
+                knob.unit()
+            );
+        }
+    }
+    if !(2..=MAX_THROWS).contains(&spec.count) {
+        anyhow::bail!("--count {} is outside 2 to {MAX_THROWS}", spec.count);
+    }
+    p.validate()
+        .with_context(|| format!("{}", path.display()))?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let c = cancel.clone();
+        // Ctrl-C stops the sweep cleanly; failing to install the handler only loses that nicety.
+        let _ = ctrlc::set_handler(move || c.store(true, Ordering::SeqCst));
+    }
+    let started = Instant::now();
+    let points = stoneskip::sweep::run(&p, &spec, &cancel);
+    eprintln!(
+        "{} throws in {:.1} s on {} threads",
+        points.len(),
+        started.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    );
+    match out {
+        Some(o) => {
+            let f =
+                std::fs::File::create(o).with_context(|| format!("creating {}", o.display()))?;
+            stoneskip::sweep::write_csv(std::io::BufWriter::new(f), &p, &p, &spec, &points)
+                .with_context(|| format!("writing {}", o.display()))
+        }
+        None => stoneskip::sweep::write_csv(std::io::stdout().lock(), &p, &p, &spec, &points),
     }
 }
 

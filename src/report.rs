@@ -9,7 +9,7 @@ use crate::sim::air::Air;
 use crate::sim::integrate::{fly, BodyState};
 use crate::sim::params::Rotation;
 use crate::sim::stone::Stone;
-use crate::sim::{Simulation, StepSample, Summary};
+use crate::sim::{ending, Ending, Simulation, StepSample, Summary};
 
 /// The CSV header (design.md §7).
 pub const CSV_HEADER: &str =
@@ -39,6 +39,9 @@ pub fn text_summary(s: &Summary) -> String {
         s.steps,
         s.force_evals
     ));
+    if s.outcome.is_some() {
+        out.push_str(&format!("ending: {}\n", ending(s).words()));
+    }
     if let Some(reason) = &s.diverged_reason {
         out.push_str(&format!("diverged: {reason}\n"));
     }
@@ -93,9 +96,22 @@ pub fn text_summary(s: &Summary) -> String {
     out
 }
 
-/// JSON object of a run (design.md §7).
+/// JSON object of a run (design.md §7), with why it ended (issue 48): `ending` (its `kind` and
+/// the numbers that decided it) and `ending_words`, the words the app shows.
 pub fn json_summary(s: &Summary) -> Result<String, serde_json::Error> {
-    serde_json::to_string_pretty(s)
+    #[derive(serde::Serialize)]
+    struct WithEnding<'a> {
+        #[serde(flatten)]
+        summary: &'a Summary,
+        ending: Ending,
+        ending_words: String,
+    }
+    let e = ending(s);
+    serde_json::to_string_pretty(&WithEnding {
+        summary: s,
+        ending: e,
+        ending_words: e.words(),
+    })
 }
 
 /// Writes the trajectory CSV: a row per accepted step, and flight rows in between so that no gap
@@ -260,5 +276,44 @@ mod tests {
         assert!(text_summary(&s).contains("outcome sank,"));
         s.outcome = Some(Outcome::Timeout);
         assert!(text_summary(&s).contains("still going at the time limit (timeout)"));
+    }
+
+    /// Issue 48: the text and the JSON say why the throw ended, from its last touch.
+    #[test]
+    fn the_ending_is_reported_from_the_last_touch() {
+        let mut s = diverged();
+        s.diverged_reason = None;
+        s.outcome = Some(Outcome::Sank);
+        s.contacts = vec![crate::sim::ContactEvent {
+            t_start: 0.1,
+            t_end: 0.2,
+            skip: false,
+            graze: false,
+            x: 1.0,
+            y: 0.0,
+            v_in: [5.0, 0.0, -0.5],
+            v_out: [1.0, 0.0, 0.0],
+            attitude_in: [-1.1, 0.0, 0.0],
+            attitude_out: [-3.0, 0.0, 0.0],
+            beta_in: 5.7,
+            peak_lift: 0.0,
+            touches: 1,
+            weight: 1.0,
+            exit_xy: [1.0, 0.0],
+            open: false,
+        }];
+        let text = text_summary(&s);
+        assert!(
+            text.contains("ending: dug in nose-down at touch 1 (tilt -3.0°)"),
+            "{text}"
+        );
+        let v: serde_json::Value = serde_json::from_str(&json_summary(&s).unwrap()).unwrap();
+        assert_eq!(v["ending"]["kind"], "nose_down");
+        assert_eq!(v["ending"]["touch"], 1);
+        assert_eq!(
+            v["ending_words"],
+            "dug in nose-down at touch 1 (tilt -3.0°)"
+        );
+        assert_eq!(v["outcome"], "sank");
     }
 }

@@ -234,3 +234,95 @@ fn preset_by_shipped_name() {
         &["no_such_throw", "default", "record_throw"],
     );
 }
+
+/// Issue 48: `stoneskip sweep` writes the table the Experiments panel exports, byte for byte
+/// (one compute and one writer serve both), and says in plain words what it does. The panel is
+/// the app's (the `app` feature).
+#[cfg(feature = "app")]
+#[test]
+fn sweep_writes_the_experiments_export_byte_for_byte() {
+    use stoneskip::app::experiments::Experiment;
+    use stoneskip::sweep::{Knob, Spec};
+    let dir = tempfile::tempdir().unwrap();
+    let cli = dir.path().join("cli.csv");
+    let out = stoneskip(&[
+        "sweep",
+        "--preset",
+        "magic_angle",
+        "--vary",
+        "tilt",
+        "--from",
+        "10",
+        "--to",
+        "40",
+        "--count",
+        "4",
+        "--out",
+        cli.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let base = stoneskip::preset::shipped("magic_angle").unwrap().unwrap();
+    let spec = Spec {
+        knob: Knob::Tilt,
+        from: 10.0,
+        to: 40.0,
+        count: 4,
+    };
+    let mut e = Experiment::start(&base, &base, spec);
+    let t0 = std::time::Instant::now();
+    while !e.finished() {
+        assert!(
+            t0.elapsed().as_secs() < 300,
+            "the panel's sweep did not finish"
+        );
+        e.poll();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let panel = dir.path().join("panel.csv");
+    e.write_csv(&panel).unwrap();
+    let (a, b) = (std::fs::read(&cli).unwrap(), std::fs::read(&panel).unwrap());
+    assert_eq!(
+        String::from_utf8_lossy(&a),
+        String::from_utf8_lossy(&b),
+        "the command and the panel differ"
+    );
+    let text = String::from_utf8(a).unwrap();
+    assert!(
+        text.starts_with("# stoneskip sweep of the preset \"Magic angle\""),
+        "{text}"
+    );
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(rows.len(), 5, "{text}");
+    assert!(rows[2].starts_with("20,"), "{text}");
+    // A swept speed is written as swept: 7, not the 6.999999999999999 its velocity reads back.
+    let speeds = stoneskip(&[
+        "sweep",
+        "--preset",
+        "magic_angle",
+        "--vary",
+        "speed",
+        "--from",
+        "6",
+        "--to",
+        "8",
+        "--count",
+        "3",
+    ]);
+    let speeds = String::from_utf8_lossy(&speeds.stdout);
+    let first: Vec<&str> = speeds
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap_or(""))
+        .collect();
+    assert_eq!(first, ["6", "7", "8"], "{speeds}");
+    let help = stoneskip(&["sweep", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    for words in ["Experiments panel", "every core", "tilt (degrees)"] {
+        assert!(help.contains(words), "`{words}` missing from: {help}");
+    }
+}

@@ -651,3 +651,133 @@ fn what_if_throws_of_the_default_stay_on_its_lake() {
     }
     assert!(left.is_empty(), "left the lake: {left:?}");
 }
+
+/// Issue 48, finding 4: a typed spin over the range says so beside the field, and the range
+/// reaches 150 rev/s (Clanet's 65 and the model's high-spin limit above 100).
+#[test]
+fn a_clamped_value_says_so_and_spin_reaches_150() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    // Tall enough that a lake message above the launch rows keeps Spin in sight.
+    let mut h = harness_sized(model("default", dir.path()), [1280.0, 2000.0]);
+    h.run_ok();
+    type_into(&mut h, "Spin", "150");
+    settle_lake_check(&mut h);
+    let spin = h.state().edit.launch.spin / std::f64::consts::TAU;
+    assert!((spin - 150.0).abs() < 1e-9, "150 rev/s typed gave {spin}");
+    assert!(
+        h.query_by_label_contains("is over the most").is_none(),
+        "a value inside the range got a clamp note"
+    );
+    // A value changed from the preset marks its row: "Spin •".
+    type_into(&mut h, "Spin •", "400");
+    settle_lake_check(&mut h);
+    let spin = h.state().edit.launch.spin / std::f64::consts::TAU;
+    assert!((spin - 150.0).abs() < 1e-9, "400 rev/s typed gave {spin}");
+    assert!(
+        h.query_by_label_contains("400 is over the most, 150")
+            .is_some(),
+        "no note that 400 rev/s was clamped to 150"
+    );
+    // The note goes once the field takes a value it keeps.
+    type_into(&mut h, "Spin •", "30");
+    assert!(h.query_by_label_contains("is over the most").is_none());
+}
+
+/// Issue 48, finding 3: one click sets a world's gravity and air together.
+#[test]
+fn a_world_sets_gravity_and_air_in_one_click() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness_sized(model("default", dir.path()), [1280.0, 2000.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::DisclosureTriangle, "Physics")
+        .click();
+    h.run_ok();
+    h.get_by_label("Moon").click();
+    h.run_ok();
+    let p = &h.state().edit.physics;
+    assert_eq!((p.gravity, p.air), (1.62, None));
+    assert!(p.max_time >= 120.0, "{} s", p.max_time);
+    h.get_by_label("Mars").click();
+    h.run_ok();
+    let p = &h.state().edit.physics;
+    assert_eq!(p.gravity, 3.71);
+    assert_eq!(p.air.map(|a| a.density), Some(0.020));
+    h.get_by_label("Earth").click();
+    h.run_ok();
+    let p = &h.state().edit.physics;
+    assert_eq!(p.gravity, 9.81);
+    assert_eq!(p.air.map(|a| a.density), Some(1.204));
+}
+
+/// Issue 48, finding 6: a click that lands just beside a field (on the panel, on no widget)
+/// and then "45" typed leaves the camera alone; over the 3D view a digit still picks one.
+#[test]
+fn digits_typed_after_a_click_beside_a_field_keep_the_camera() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness(model("default", dir.path()));
+    h.run_ok();
+    let view = h.state().view_mode;
+    let field = value_box_rect(&h, "Tilt");
+    let beside = egui::pos2(field.right() + 6.0, field.center().y);
+    press(&mut h, beside, egui::PointerButton::Primary);
+    pause(&mut h, 2);
+    for (key, text) in [(egui::Key::Num4, "4"), (egui::Key::Num5, "5")] {
+        h.key_press(key);
+        h.event(egui::Event::Text(text.to_owned()));
+        pause(&mut h, FRAMES_PER_KEY);
+    }
+    assert_eq!(
+        h.state().view_mode,
+        view,
+        "a digit typed beside a field moved the camera"
+    );
+    // The view itself still answers to its keys.
+    let centre = h.state().view_rect.center();
+    press(&mut h, centre, egui::PointerButton::Primary);
+    pause(&mut h, 2);
+    h.key_press(egui::Key::Num3);
+    pause(&mut h, 2);
+    assert_eq!(h.state().view_mode, stoneskip::render::ViewMode::Side);
+}
+
+/// Issue 48, finding 2: the readouts say why a throw ended, from its last touch.
+#[test]
+fn the_outcome_readout_says_why_the_throw_ended() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness(model("too_slow", dir.path()));
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Throw").click();
+    until_outcome(&mut h, 5_000);
+    let outcome = readout(&h, "Outcome");
+    assert!(outcome.starts_with("too slow to skip"), "{outcome}");
+    assert!(
+        h.query_by_label_contains("Ending: too slow to skip")
+            .is_some(),
+        "the contacts table does not say why"
+    );
+}
+
+/// Issue 48, finding 7: at 1280 × 720 the Experiments panel leaves the 3D view at least 60 % of
+/// the window's height.
+#[test]
+fn experiments_leave_the_view_most_of_the_height() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness_sized(model("default", dir.path()), [1280.0, 720.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Experiments").click();
+    h.run_ok();
+    assert!(h.state().show_experiments);
+    // With results on its charts, as a class sees it.
+    type_into(&mut h, "Throws", "3");
+    h.get_by_role_and_label(Role::Button, "Run the experiment")
+        .click();
+    let t0 = std::time::Instant::now();
+    while h.state().experiment.as_ref().is_none_or(|e| !e.finished()) {
+        assert!(t0.elapsed().as_secs() < 120, "the sweep did not finish");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        h.step();
+    }
+    pause(&mut h, 3);
+    let view = h.state().view_rect.height();
+    assert!(view >= 0.6 * 720.0, "the view is {view} px of 720");
+}

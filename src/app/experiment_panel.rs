@@ -20,6 +20,7 @@ pub fn experiments_ui(
     draft: &mut Spec,
     experiment: Option<&Experiment>,
     chosen: Option<usize>,
+    loaded_name: &str,
     actions: &mut Vec<Action>,
 ) {
     let busy = experiment.is_some_and(running);
@@ -32,14 +33,25 @@ pub fn experiments_ui(
     ui.horizontal_top(|ui| {
         ui.vertical(|ui| {
             ui.set_width(SPEC_WIDTH);
-            ui.strong("Experiments");
-            ui.label(
+            // Its words on hover: the column stays short, so the panel does not grow past a
+            // third of the window and the 3D view keeps at least 60 % of a 1280 × 720 window.
+            ui.strong("Experiments").on_hover_text(
                 "Throw the stone many times, changing one thing, with the physics as it is \
                  now. Each dot is one throw: click it to watch that throw.",
             );
             spec_ui(ui, draft, busy, actions);
             if let Some(e) = experiment {
                 progress_ui(ui, e);
+                // Old results stay readable after another preset is loaded, labelled as such.
+                if e.loaded.name != loaded_name {
+                    ui.label(
+                        RichText::new(format!(
+                            "These results are for \"{}\", not the preset loaded now",
+                            e.loaded.name
+                        ))
+                        .color(Color32::from_rgb(255, 200, 120)),
+                    );
+                }
                 if ui
                     .add_enabled(e.done() > 0, egui::Button::new("Export CSV"))
                     .on_hover_text("The table as a CSV file, in the exports folder")
@@ -69,9 +81,10 @@ pub fn experiments_ui(
             let size = egui::vec2(chart_width, (height - 56.0).max(80.0));
             ui.vertical(|ui| {
                 ui.weak(format!(
-                    "{name} against {} ({})",
+                    "{name} against {} ({}), \"{}\"",
                     e.spec.knob.name().to_lowercase(),
-                    e.spec.knob.unit()
+                    e.spec.knob.unit(),
+                    e.loaded.name
                 ));
                 if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), value, size) {
                     actions.push(Action::LoadExperimentPoint(i));
@@ -173,6 +186,20 @@ fn progress_ui(ui: &mut Ui, e: &Experiment) {
         format!("{done} of {n} thrown ({:.1} s)…", e.elapsed)
     };
     ui.add(egui::ProgressBar::new(done as f32 / n.max(1) as f32).text(state));
+    let bounded = e.points.iter().flatten().filter(|p| !p.result).count();
+    if bounded > 0 {
+        ui.label(
+            RichText::new(format!(
+                "{bounded} not a result (hollow dots, out of the line): ended by the lake's edge, \
+                 the time limit or a failed run, not by the throw"
+            ))
+            .color(Color32::from_rgb(255, 200, 120)),
+        )
+        .on_hover_text(
+            "With wavy contact the stone reads the lake's columns, so their edge ends the throw; \
+             see each throw's ending in the table",
+        );
+    }
 }
 
 /// One chart of the results against the value; returns the point clicked.
@@ -184,13 +211,26 @@ fn chart_ui(
     value: fn(&Point) -> f64,
     size: egui::Vec2,
 ) -> Option<usize> {
+    // Throws ended by a bound of the simulation (the lake's edge under wavy contact, the time
+    // limit) are no result: drawn hollow and left out of the trend line.
     let pts: Vec<[f64; 2]> = e
         .points
         .iter()
         .flatten()
+        .filter(|p| p.result)
+        .map(|p| [p.value, value(p)])
+        .collect();
+    let bounded: Vec<[f64; 2]> = e
+        .points
+        .iter()
+        .flatten()
+        .filter(|p| !p.result)
         .map(|p| [p.value, value(p)])
         .collect();
     let (lo, hi) = (e.spec.from.min(e.spec.to), e.spec.from.max(e.spec.to));
+    // Skips are whole numbers: their axis is numbered by whole numbers only.
+    let whole = name == "Skips";
+    let (knob_name, unit) = (e.spec.knob.name().to_lowercase(), e.spec.knob.unit());
     let chosen_pt = chosen
         .and_then(|i| e.points.get(i).cloned().flatten())
         .map(|p| [p.value, value(&p)]);
@@ -204,11 +244,37 @@ fn chart_ui(
         .include_x(lo)
         .include_x(hi)
         .include_y(0.0)
-        .y_axis_label(axis)
-        // Labels every 10° on a chart a third of the window wide (egui_plot asks for 60 points).
+        // A chart of no skips still has a numbered axis, not a lone "0".
+        .include_y(1.0)
+        // Labels every 10° on a chart a third of the window wide (egui_plot asks for 60 points),
+        // and numbers up the y axis at every range (small counts too): whole numbers for counts.
         .custom_x_axes(vec![
-            egui_plot::AxisHints::new_x().label_spacing(28.0..=44.0)
+            egui_plot::AxisHints::new_x().label_spacing(22.0..=40.0)
         ])
+        .custom_y_axes(vec![egui_plot::AxisHints::new_y()
+            .label(axis)
+            .label_spacing(12.0..=22.0)
+            .formatter(move |mark, _| {
+                let v = mark.value;
+                if whole && (v - v.round()).abs() > 1e-9 {
+                    String::new()
+                } else {
+                    format!("{}", (v * 1e6).round() / 1e6)
+                }
+            })])
+        // The value under the pointer: the nearest throw's, or the pointer's place.
+        .label_formatter(move |pos| {
+            let (p, near) = match pos {
+                egui_plot::HoverPosition::NearDataPoint { position, .. } => (position, true),
+                egui_plot::HoverPosition::Elsewhere { position } => (position, false),
+            };
+            let y = if whole && near {
+                format!("{:.0}", p.y)
+            } else {
+                format!("{:.2}", p.y)
+            };
+            Some(format!("{} {:.3} {unit}\n{axis} {y}", knob_name, p.x))
+        })
         .show(ui, |plot| {
             plot.line(
                 Line::new(name, PlotPoints::from(pts.clone())).color(color.gamma_multiply(0.6)),
@@ -220,6 +286,15 @@ fn chart_ui(
                     .shape(MarkerShape::Circle)
                     .filled(true),
             );
+            if !bounded.is_empty() {
+                plot.points(
+                    Points::new("not a result", PlotPoints::from(bounded))
+                        .color(color)
+                        .radius(4.0)
+                        .shape(MarkerShape::Circle)
+                        .filled(false),
+                );
+            }
             if let Some(c) = chosen_pt {
                 plot.points(
                     Points::new("chosen", PlotPoints::from(vec![c]))
@@ -260,8 +335,8 @@ fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Ve
                     ui.strong(format!("{} ({})", k.name(), k.unit()));
                     ui.strong("skips");
                     ui.strong("distance (m)");
-                    ui.strong("outcome");
                     ui.label("");
+                    ui.strong("ending");
                     ui.end_row();
                     for (i, p) in e.points.iter().enumerate() {
                         let Some(p) = p else { continue };
@@ -275,7 +350,8 @@ fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Ve
                         ui.monospace(text(format!("{:.3}", p.value)));
                         ui.monospace(text(p.skips.to_string()));
                         ui.monospace(text(format!("{:.2}", p.distance)));
-                        ui.label(text(p.outcome.clone()));
+                        // Watch before the ending, whose words may run past the panel's edge
+                        // (shown whole on hover).
                         if ui
                             .small_button("Watch")
                             .on_hover_text("Load this throw's settings and throw it")
@@ -283,6 +359,13 @@ fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Ve
                         {
                             actions.push(Action::LoadExperimentPoint(i));
                         }
+                        let ending = if p.result {
+                            text(p.outcome.clone())
+                        } else {
+                            text(format!("not a result: {}", p.outcome)).italics()
+                        };
+                        ui.add(egui::Label::new(ending).truncate())
+                            .on_hover_text(&p.outcome);
                         ui.end_row();
                     }
                 });

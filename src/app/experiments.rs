@@ -4,7 +4,6 @@
 //! arriving as they finish. A class finds the magic angle or the minimal speed for itself
 //! (Clanet et al. 2004's curves, drawn from its own throws). No window or GPU type here.
 
-use std::io::Write as _;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, Receiver};
@@ -15,165 +14,18 @@ use anyhow::{Context as _, Result};
 use rayon::prelude::*;
 
 use crate::sim::params::Preset;
-use crate::sim::Outcome;
 
-const TAU: f64 = std::f64::consts::TAU;
-
-/// The most throws one experiment runs.
-pub const MAX_THROWS: usize = 200;
-
-/// The launch value an experiment varies, in the units the panels show.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Knob {
-    /// m/s, along the launch direction.
-    Speed,
-    /// Degrees: the attack angle (the magic angle is near 20°).
-    Tilt,
-    /// rev/s about the stone's axis.
-    Spin,
-    /// m: the launch height above the water.
-    Height,
-    /// kg.
-    Mass,
-}
-
-impl Knob {
-    pub const ALL: [Knob; 5] = [
-        Knob::Speed,
-        Knob::Tilt,
-        Knob::Spin,
-        Knob::Height,
-        Knob::Mass,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Knob::Speed => "Speed",
-            Knob::Tilt => "Tilt",
-            Knob::Spin => "Spin",
-            Knob::Height => "Height",
-            Knob::Mass => "Mass",
-        }
-    }
-
-    pub fn unit(self) -> &'static str {
-        match self {
-            Knob::Speed => "m/s",
-            Knob::Tilt => "°",
-            Knob::Spin => "rev/s",
-            Knob::Height => "m",
-            Knob::Mass => "kg",
-        }
-    }
-
-    /// The panels' range for this value (inside `Preset::validate`'s).
-    pub fn range(self) -> (f64, f64) {
-        use crate::ui::ranges;
-        let r = match self {
-            Knob::Speed => ranges::SPEED,
-            Knob::Tilt => ranges::TILT,
-            Knob::Spin => ranges::SPIN,
-            Knob::Height => ranges::HEIGHT,
-            Knob::Mass => ranges::MASS,
-        };
-        (*r.start(), *r.end())
-    }
-
-    /// A range worth sweeping first: around the magic angle, the minimal speed, …
-    pub fn suggested(self) -> (f64, f64) {
-        match self {
-            Knob::Speed => (1.0, 15.0),
-            Knob::Tilt => (0.0, 45.0),
-            Knob::Spin => (0.0, 30.0),
-            Knob::Height => (0.05, 1.5),
-            Knob::Mass => (0.02, 0.5),
-        }
-    }
-
-    /// The value in `p`, in the panels' units.
-    pub fn get(self, p: &Preset) -> f64 {
-        let v = p.launch.velocity;
-        match self {
-            Knob::Speed => (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt(),
-            Knob::Tilt => p.launch.attitude.tilt_deg,
-            Knob::Spin => p.launch.spin / TAU,
-            Knob::Height => p.launch.position[2],
-            Knob::Mass => p.stone.mass,
-        }
-    }
-
-    /// `p` with this value set to `value` (clamped to [`Knob::range`]); a speed keeps the launch
-    /// direction (straight ahead when the preset's speed is zero).
-    pub fn set(self, p: &Preset, value: f64) -> Preset {
-        let (lo, hi) = self.range();
-        let x = value.clamp(lo, hi);
-        let mut q = p.clone();
-        match self {
-            Knob::Speed => {
-                let v = glam::DVec3::from_array(q.launch.velocity);
-                let dir = v.try_normalize().unwrap_or(glam::DVec3::X);
-                q.launch.velocity = (dir * x).to_array();
-            }
-            Knob::Tilt => q.launch.attitude.tilt_deg = x,
-            Knob::Spin => q.launch.spin = x * TAU,
-            Knob::Height => q.launch.position[2] = x,
-            Knob::Mass => q.stone.mass = x,
-        }
-        q
-    }
-}
-
-/// What to sweep: `knob` from `from` to `to` in `count` evenly spaced throws.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Spec {
-    pub knob: Knob,
-    pub from: f64,
-    pub to: f64,
-    pub count: usize,
-}
-
-impl Spec {
-    /// The suggested sweep of `knob`, 24 throws.
-    pub fn suggested(knob: Knob) -> Self {
-        let (from, to) = knob.suggested();
-        Self {
-            knob,
-            from,
-            to,
-            count: 24,
-        }
-    }
-
-    /// The values thrown, in order (ends included; clamped to the knob's range; 2 to
-    /// [`MAX_THROWS`] of them).
-    pub fn values(&self) -> Vec<f64> {
-        let (lo, hi) = self.knob.range();
-        let clean = |x: f64, d: f64| if x.is_finite() { x.clamp(lo, hi) } else { d };
-        let (a, b) = (clean(self.from, lo), clean(self.to, hi));
-        let n = self.count.clamp(2, MAX_THROWS);
-        (0..n)
-            .map(|i| a + (b - a) * i as f64 / (n - 1) as f64)
-            .collect()
-    }
-}
-
-/// One throw's result.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Point {
-    pub value: f64,
-    pub skips: usize,
-    /// m, along the ground from the launch point to where it ended.
-    pub distance: f64,
-    /// In words ("sank", "left the lake", …), or why the throw could not start.
-    pub outcome: String,
-    /// Force evaluations it took (what it cost).
-    pub force_evals: u64,
-}
+pub use crate::sweep::{Knob, Point, Spec, MAX_THROWS};
 
 /// A sweep under way or done: its throws' presets, the results so far (in value order, `None`
 /// until a throw finishes), the background work's receiver and its stop flag.
 pub struct Experiment {
     pub spec: Spec,
+    /// The preset as loaded when the sweep started (its name is the charts'; the CSV's header
+    /// lists what `base` changed from it).
+    pub loaded: Preset,
+    /// The settings the sweep varied one value of.
+    pub base: Preset,
     pub presets: Vec<Preset>,
     pub points: Vec<Option<Point>>,
     receiver: Receiver<(usize, Point)>,
@@ -184,20 +36,19 @@ pub struct Experiment {
 }
 
 impl Experiment {
-    /// Starts the sweep of `spec` on `base` (its physics, stone and water as they are now) in
-    /// the background.
-    pub fn start(base: &Preset, spec: Spec) -> Self {
-        let presets: Vec<Preset> = spec
-            .values()
-            .into_iter()
-            .map(|x| spec.knob.set(base, x))
-            .collect();
+    /// Starts the sweep of `spec` on `base` (its physics, stone and water as they are now;
+    /// `loaded`: the preset as loaded) in the background.
+    pub fn start(base: &Preset, loaded: &Preset, spec: Spec) -> Self {
+        let presets = crate::sweep::presets(base, &spec);
         let (sender, receiver) = channel();
         let stop = Arc::new(AtomicBool::new(false));
-        let jobs: Vec<(usize, f64, Preset)> = presets
-            .iter()
+        // The value as swept (the CSV's first column, as `stoneskip sweep` writes it).
+        let jobs: Vec<(usize, f64, Preset)> = spec
+            .values()
+            .into_iter()
+            .zip(&presets)
             .enumerate()
-            .map(|(i, p)| (i, spec.knob.get(p), p.clone()))
+            .map(|(i, (x, p))| (i, x, p.clone()))
             .collect();
         let flag = stop.clone();
         // All cores but one: the app's own thread keeps drawing.
@@ -210,7 +61,7 @@ impl Experiment {
                     if flag.load(Ordering::Relaxed) {
                         return;
                     }
-                    let _ = tx.send((i, throw(x, &p, &flag)));
+                    let _ = tx.send((i, crate::sweep::throw(x, &p, &flag)));
                 });
             };
             lower_priority();
@@ -226,6 +77,8 @@ impl Experiment {
             points: vec![None; presets.len()],
             presets,
             spec,
+            loaded: loaded.clone(),
+            base: base.clone(),
             receiver,
             stop,
             started: Instant::now(),
@@ -265,40 +118,12 @@ impl Experiment {
         self.stop.load(Ordering::Relaxed)
     }
 
-    /// Writes the finished throws as CSV, with comment lines naming the sweep and the units.
-    pub fn write_csv(&self, path: &Path, preset_name: &str) -> Result<()> {
-        let k = self.spec.knob;
-        let mut text = format!(
-            "# stoneskip experiment on the preset \"{}\"\n",
-            preset_name.replace(['\n', '"'], " ")
-        );
-        text.push_str(&format!(
-            "# {} from {} to {} {} in {} throws, the rest of the preset as it was; distance in m \
-             along the ground from the launch point\n",
-            k.name(),
-            self.spec.from,
-            self.spec.to,
-            k.unit(),
-            self.points.len()
-        ));
-        text.push_str(&format!(
-            "{}_{},skips,distance_m,outcome,force_evals\n",
-            k.name().to_lowercase(),
-            unit_tag(k)
-        ));
-        for p in self.points.iter().flatten() {
-            text.push_str(&format!(
-                "{},{},{:.4},{},{}\n",
-                p.value,
-                p.skips,
-                p.distance,
-                p.outcome.replace(',', ";"),
-                p.force_evals
-            ));
-        }
+    /// Writes the finished throws as CSV ([`crate::sweep::write_csv`], the table
+    /// `stoneskip sweep` writes).
+    pub fn write_csv(&self, path: &Path) -> Result<()> {
+        let points: Vec<Point> = self.points.iter().flatten().cloned().collect();
         let mut f = super::files::create_file(path)?;
-        f.write_all(text.as_bytes())
-            .and_then(|()| f.flush())
+        crate::sweep::write_csv(&mut f, &self.loaded, &self.base, &self.spec, &points)
             .with_context(|| format!("writing {}", path.display()))
     }
 }
@@ -306,16 +131,6 @@ impl Experiment {
 impl Drop for Experiment {
     fn drop(&mut self) {
         self.stop();
-    }
-}
-
-fn unit_tag(k: Knob) -> &'static str {
-    match k {
-        Knob::Speed => "m_s",
-        Knob::Tilt => "deg",
-        Knob::Spin => "rev_s",
-        Knob::Height => "m",
-        Knob::Mass => "kg",
     }
 }
 
@@ -327,31 +142,6 @@ pub(crate) fn lower_priority() {
     // SAFETY: setpriority reads no memory of ours; a failure leaves the priority as it was.
     unsafe {
         libc::setpriority(libc::PRIO_PROCESS, 0, 19);
-    }
-}
-
-/// One headless throw (the water left at rest, as `simulate` does), stopped early by `stop`.
-fn throw(value: f64, p: &Preset, stop: &AtomicBool) -> Point {
-    let mut sim = match crate::sim::Simulation::new(p) {
-        Ok(s) => s,
-        Err(e) => {
-            return Point {
-                value,
-                skips: 0,
-                distance: 0.0,
-                outcome: format!("not thrown: {e}"),
-                force_evals: 0,
-            }
-        }
-    };
-    sim.skip_unread_water();
-    let s = sim.run(&mut |_| {}, &|| stop.load(Ordering::Relaxed));
-    Point {
-        value,
-        skips: s.skips,
-        distance: s.distance,
-        outcome: s.outcome.map_or("stopped", Outcome::words).to_owned(),
-        force_evals: s.force_evals,
     }
 }
 
@@ -414,7 +204,7 @@ mod tests {
             to: 40.0,
             count: 4,
         };
-        let mut e = Experiment::start(&base, spec);
+        let mut e = Experiment::start(&base, &base, spec);
         let t0 = Instant::now();
         while !e.finished() && t0.elapsed().as_secs() < 120 {
             e.poll();
@@ -429,17 +219,20 @@ mod tests {
         }
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("tilt.csv");
-        e.write_csv(&path, "magic").unwrap();
+        e.write_csv(&path).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
-        assert_eq!(rows[0], "tilt_deg,skips,distance_m,outcome,force_evals");
+        assert_eq!(
+            rows[0],
+            "tilt_deg,skips,distance_m,ending,result,force_evals"
+        );
         assert_eq!(rows.len(), 5);
     }
 
     #[test]
     fn a_stopped_sweep_ends_early() {
         let base = shipped("record_throw");
-        let e = Experiment::start(&base, Spec::suggested(Knob::Speed));
+        let e = Experiment::start(&base, &base, Spec::suggested(Knob::Speed));
         e.stop();
         assert!(e.stopped());
     }

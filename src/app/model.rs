@@ -23,7 +23,7 @@ use crate::render::camera::{camera_for, Framing, ViewMode};
 use crate::render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
 use crate::sim::params::{Integrator, Launch, Preset, Rotation};
 use crate::sim::stone::reported_attitude;
-use crate::sim::{LakeJob as LakeWork, Outcome, Simulation, StepSample, SteppedLake, TickProgress};
+use crate::sim::{LakeJob as LakeWork, Simulation, StepSample, SteppedLake, TickProgress};
 use crate::ui::{
     contact_kind, slide_distance, Action, ContactKind, FrameTiming, Message, Phase, PlotSeries,
     PresetLibrary, Readouts, Section, ViewRequest, ViewSettings,
@@ -116,6 +116,12 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
                  a real one would float. Raise its mass or shrink it.",
                 p.physics.water_density
             ));
+        } else if density > DENSEST_ROCK {
+            w.push(format!(
+                "This stone is denser than any rock ({density:.0} kg/m³; rocks weigh 2 000 to \
+                 3 500 kg/m³, iron ore up to {DENSEST_ROCK:.0}): a lump of lead is 11 000. Lower \
+                 its mass or make it bigger."
+            ));
         }
     }
     if p.water.enabled && p.water.wavy_contact {
@@ -131,6 +137,9 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
     }
     w
 }
+
+/// The densest rock a stone may be (kg/m³): haematite, an iron ore, about 5 300.
+const DENSEST_ROCK: f64 = 5300.0;
 
 /// The stone's volume from its shape (m³), when the shape has a closed form.
 fn stone_volume(p: &Preset) -> Option<f64> {
@@ -287,7 +296,10 @@ pub struct Shown {
     pub plots: [Vec<egui_plot::PlotPoint>; 4],
     pub plot_end: f64,
     pub timing: FrameTiming,
+    /// The outcome in a word or two, for the top bar ("sank").
     pub outcome: Option<String>,
+    /// Why the throw ended, in full ([`crate::sim::ending`]), for the contacts table.
+    pub ending: Option<String>,
     pub dropping_now: bool,
     pub dropped_total: f64,
     /// Real seconds per simulated second while the physics runs behind ([`Pace::behind`]).
@@ -406,6 +418,10 @@ pub struct Model {
     /// The Experiments window: shown, the sweep being edited, the last one run and the point
     /// whose throw was loaded.
     pub show_experiments: bool,
+    /// Whether the letter and digit shortcuts (cameras, pause, panels) go to the 3D view: the
+    /// last press landed in it (or none has yet). A press on a panel (beside a field, in
+    /// Experiments) takes them away until the pointer is over the view or a press lands there.
+    pub keys_to_view: bool,
     pub experiment_draft: Spec,
     pub experiment: Option<Experiment>,
     pub experiment_chosen: Option<usize>,
@@ -493,6 +509,7 @@ impl Model {
             gesture: None,
             out_dir: files::output_dir(options.output_dir.as_deref()),
             show_experiments: false,
+            keys_to_view: true,
             experiment_draft: Spec::suggested(Knob::Tilt),
             experiment: None,
             experiment_chosen: None,
@@ -685,11 +702,7 @@ impl Model {
             points: thinned(self.trail.points(), 400),
             skips: self.sim.skips(),
             distance: self.sim.distance(),
-            outcome: self
-                .sim
-                .outcome()
-                .map_or("stopped", Outcome::words)
-                .to_owned(),
+            outcome: self.sim.ending().words(),
         });
         while self.ghosts.len() > MAX_GHOSTS {
             self.ghosts.pop_front();
@@ -738,6 +751,8 @@ impl Model {
         };
         match self.rebuild(&preset) {
             Ok(()) => {
+                // A replay is a throw of its own in Earlier throws (#1, #2), not #1 twice.
+                self.throws += 1;
                 self.phase = Phase::Running;
                 self.clock.set_paused(false);
             }
@@ -1191,7 +1206,11 @@ impl Model {
             Action::Revert(section) => self.revert(section),
             Action::RunExperiment => {
                 self.experiment_chosen = None;
-                self.experiment = Some(Experiment::start(&self.edit, self.experiment_draft));
+                self.experiment = Some(Experiment::start(
+                    &self.edit,
+                    &self.loaded,
+                    self.experiment_draft,
+                ));
             }
             Action::StopExperiment => {
                 if let Some(e) = &self.experiment {
@@ -1221,7 +1240,7 @@ impl Model {
         };
         let name = format!("{}-{}", self.edit.name, e.spec.knob.name().to_lowercase());
         let path = files::output_path(&self.out_dir, &name, "csv");
-        let message = match e.write_csv(&path, &self.edit.name) {
+        let message = match e.write_csv(&path) {
             Ok(()) => Message::info(format!("experiment written to {}", path.display())),
             Err(e) => Message::error(format!("experiment export failed: {e:#}")),
         };
@@ -1323,6 +1342,7 @@ impl Model {
             plot_end: end,
             timing: self.timing,
             outcome: self.sim.outcome().map(|o| o.words().to_owned()),
+            ending: self.sim.outcome().map(|_| self.sim.ending().words()),
             dropping_now: !self.resting
                 && self
                     .last_drop
@@ -1373,7 +1393,7 @@ impl Model {
                 .sim
                 .outcome()
                 .zip(self.sim.end_time())
-                .map(|(o, t)| format!("{} at {t:.2} s", o.words())),
+                .map(|(_, t)| format!("{} at {t:.2} s", self.sim.ending().words())),
             glide: self.sim.contacts().last().and_then(|c| {
                 let radius = self.sim.stone().shape.half_extent();
                 (contact_kind(c, radius) == ContactKind::Glide).then(|| slide_distance(c))
@@ -1485,6 +1505,28 @@ mod tests {
         assert!(!m.animating() || m.camera_settling());
     }
 
+    /// Issue 48, finding 7: a replay gets its own number in Earlier throws (#1, #2), and the
+    /// ghost says why the throw ended.
+    #[test]
+    fn a_replay_is_numbered_as_a_throw_of_its_own() {
+        let mut p = Preset::version_1();
+        p.water.enabled = false;
+        p.physics.max_time = 2.0;
+        let mut m = Model::new(p, None, Options::default()).unwrap();
+        m.throw();
+        for _ in 0..200 {
+            m.advance(1.0 / 30.0);
+        }
+        m.replay();
+        for _ in 0..200 {
+            m.advance(1.0 / 30.0);
+        }
+        m.throw();
+        let numbers: Vec<u64> = m.ghosts.iter().map(|g| g.number).collect();
+        assert_eq!(numbers, vec![1, 2], "{numbers:?}");
+        assert!(m.ghosts.iter().all(|g| !g.outcome.is_empty()));
+    }
+
     #[test]
     fn step_runs_one_tick_and_stays_paused() {
         let mut p = Preset::version_1();
@@ -1531,6 +1573,14 @@ mod tests {
         assert!(
             w.contains("lighter than water") && w.contains("float"),
             "{w}"
+        );
+        // Issue 48: a 3 kg lens (48 000 kg/m³) is denser than any rock, and says so.
+        let mut heavy = ok.clone();
+        heavy.stone.mass = 3.0;
+        let w = setup_warnings(&heavy);
+        assert!(
+            w.iter().any(|w| w.contains("denser than any rock")),
+            "{w:?}"
         );
         let mut wavy = ok.clone();
         wavy.water.wavy_contact = true;

@@ -75,8 +75,24 @@ impl Model {
     /// All panels and the 3D view's input; pushes what the user asked for.
     pub fn build_ui(&mut self, ui: &mut egui::Ui, adapter: &str, actions: &mut Vec<Action>) {
         let ctx = ui.ctx().clone();
+        // Where the last press landed decides who gets a letter or a digit: the 3D view (its
+        // shortcuts) or the panel clicked last (a field beside which a click landed, the
+        // Experiments panel), so typing "45" there never switches the camera.
+        let (pressed, hover) = ctx.input(|i| {
+            (
+                i.pointer
+                    .any_pressed()
+                    .then(|| i.pointer.press_origin())
+                    .flatten(),
+                i.pointer.hover_pos(),
+            )
+        });
+        if let Some(at) = pressed {
+            self.keys_to_view = self.view_rect.contains(at);
+        }
+        let view_has_pointer = hover.is_some_and(|p| self.view_rect.contains(p));
         if !ctx.egui_wants_keyboard_input() {
-            self.shortcuts_ui(&ctx, actions);
+            self.shortcuts_ui(&ctx, self.keys_to_view || view_has_pointer, actions);
         }
         self.refresh_shown();
         // The lake check runs the throw on flat water, in the background: once a drag has
@@ -126,25 +142,32 @@ impl Model {
         if !self.show_experiments {
             return;
         }
+        // Under a third of the window's height at first, so the 3D view keeps at least 60 % of
+        // it (1280 × 720: the view 450 px of 720); drag the edge for more.
+        let first = (0.3 * ui.available_height()).clamp(160.0, 260.0);
         egui::Panel::bottom("experiments")
             .resizable(true)
-            .default_size(260.0)
-            .size_range(180.0..=520.0)
+            .default_size(first)
+            .size_range(160.0..=520.0)
             .show(ui, |ui| {
                 super::experiment_panel::experiments_ui(
                     ui,
                     &mut self.experiment_draft,
                     self.experiment.as_ref(),
                     self.experiment_chosen,
+                    &self.loaded.name,
                     actions,
                 );
             });
     }
 
-    fn shortcuts_ui(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+    /// The keyboard's shortcuts; the letters and digits only when `to_view` (the 3D view has the
+    /// pointer or was pressed last), Space, F1, ? and Escape always.
+    fn shortcuts_ui(&mut self, ctx: &egui::Context, to_view: bool, actions: &mut Vec<Action>) {
         use egui::Key;
         ctx.input(|i| {
-            let k = |key| i.key_pressed(key);
+            let global = [Key::Space, Key::F1, Key::Escape];
+            let k = |key| (to_view || global.contains(&key)) && i.key_pressed(key);
             if k(Key::Space) && self.invalid.is_none() {
                 actions.push(Action::Throw);
             }
@@ -338,12 +361,33 @@ impl Model {
         let (Some(edges), Some(track)) = (&self.lake_exit, self.lake_track) else {
             return;
         };
-        let text = format!(
-            "This throw would leave the lake by its {edges} edge: on flat water it runs over \
-             x {:.1}…{:.1} m, y {:.1}…{:.1} m.",
-            track.lo[0], track.hi[0], track.lo[1], track.hi[1]
-        );
         let lake = lake::lake_rect(&self.edit);
+        // In plain words: which side, how far the stone goes and where the water drawn ends.
+        let sides = edges
+            .replace(" (+x)", "")
+            .replace(" (−x)", "")
+            .replace(" (+y)", "")
+            .replace(" (−y)", "");
+        let reach = track.hi[0] - self.edit.launch.position[0];
+        let ends = lake.map_or(0.0, |r| r.hi[0] - self.edit.launch.position[0]);
+        let wavy = self.edit.water.wavy_contact;
+        let text = if wavy {
+            format!(
+                "With wavy contact the stone reads the lake, so its {sides} edge would stop this \
+                 throw: it goes {reach:.0} m out, the lake ends {ends:.0} m out. Fit the lake, or \
+                 the throw is no result."
+            )
+        } else {
+            format!(
+                "The stone flies past the lake's {sides} edge ({reach:.0} m out; the lake ends \
+                 {ends:.0} m out): the rings stop there, the throw runs on to its end."
+            )
+        };
+        let color = if wavy {
+            WARN
+        } else {
+            egui::Color32::from_rgb(150, 200, 255)
+        };
         let tip = lake.map_or_else(String::new, |r| {
             format!(
                 "The lake spans x {:.1}…{:.1} m, y {:.1}…{:.1} m. Fitting adds {:.0} m of water on \
@@ -356,7 +400,7 @@ impl Model {
             )
         });
         ui.horizontal_wrapped(|ui| {
-            ui.colored_label(WARN, text).on_hover_text(&tip);
+            ui.colored_label(color, text).on_hover_text(&tip);
             if ui
                 .small_button("Fit the lake to the throw")
                 .on_hover_text(&tip)
@@ -376,7 +420,9 @@ impl Model {
             .show(ui, |ui| ui::readouts_ui(ui, &shown.readouts));
         egui::CollapsingHeader::new(head("Contacts"))
             .default_open(true)
-            .show(ui, |ui| ui::contacts_ui(ui, &shown.contacts, radius));
+            .show(ui, |ui| {
+                ui::contacts_ui(ui, &shown.contacts, radius, shown.ending.as_deref());
+            });
         egui::CollapsingHeader::new(head("Export"))
             .default_open(true)
             .show(ui, |ui| {

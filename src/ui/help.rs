@@ -123,10 +123,13 @@ const MODEL: &[(&str, &str, &str)] = &[
     ),
     (
         "Outcome",
-        "Sank when the whole underside is below the surface; left the lake at the grid's edge; \
-         still going at the time limit; diverged when the numbers stop being finite. A skip is a \
-         contact that ends with the stone wholly in the air and a flight at least as long as \
-         the stone.",
+        "Sank when the whole underside is below the surface, and why, read at its last touch: \
+         too slow to skip, sank after its last skip (slowed too much), dug in nose-down (tilt \
+         below zero), landed on its edge (bank over 20°), or came in too steep (over 45° down). \
+         Still going at the time limit; diverged when the numbers stop being finite. On the \
+         ambient water the lake is a window of rings and the stone flies on past it; only with \
+         wavy contact does the lake's edge end a throw (not a result). A skip is a contact that \
+         ends with the stone wholly in the air and a flight at least as long as the stone.",
         "Bocquet 2003 (loss of lift); design §4",
     ),
     (
@@ -271,6 +274,16 @@ pub const ABOUT_OPENING: &[(&str, &str)] = &[
          their neighbours, so where the stone pushes down, rings spread across the lake.",
     ),
     (
+        "Why a stone skips so far on the Moon",
+        "Pick the Moon in the Physics panel (World). Its gravity is a sixth of Earth's and it has \
+         no air. The water pushes on the stone just as hard as on Earth, since that push comes \
+         from the stone's speed, but the stone weighs six times less, so a much slower stone is \
+         still thrown back up: the slowest speed that skips is about 2.5 times lower (it goes \
+         with the square root of gravity). Between touches it falls six times more gently, so \
+         each hop lasts six times longer and reaches six times farther, and with no air nothing \
+         slows it in flight. More hops, each much longer: the stone skips far.",
+    ),
+    (
         "What to try",
         "Press Space to throw, then 3 for the side view. Change one thing at a time in the Launch \
          panel: slow the stone down until it no longer skips, tilt it steeply, or take its spin \
@@ -320,6 +333,8 @@ mod tests {
             "20°",
             "magic angle",
             "triangles",
+            "Moon",
+            "six times",
         ] {
             assert!(opening.contains(words), "{words}");
         }

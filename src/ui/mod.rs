@@ -23,7 +23,8 @@ pub use readouts::{
     timing_ui, ContactKind, GhostRow, PlotSeries,
 };
 pub use settings::{
-    display_ui, launch_ui, parse_finite, physics_ui, ranges, stone_ui, water_ui, Marks, MARK_COLOR,
+    clamp_note, display_ui, launch_ui, parse_finite, physics_ui, ranges, stone_ui, water_ui, Marks,
+    World, MARK_COLOR,
 };
 
 /// What the user asked for this frame.

@@ -191,8 +191,12 @@ pub fn contact_kind(c: &ContactEvent, radius: f64) -> ContactKind {
 }
 
 /// The table of contact episodes (`radius`: the stone's half-width, for telling a glide); each
-/// contact's peak lift in g against the weight it was made with.
-pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
+/// contact's peak lift in g against the weight it was made with, its tilt and bank when it met
+/// the water, and under the table why the throw ended (`ending`, once it has).
+pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, ending: Option<&str>) {
+    if let Some(e) = ending {
+        ui.label(RichText::new(format!("Ending: {e}")).strong());
+    }
     if contacts.is_empty() {
         ui.weak("no contact yet");
         return;
@@ -204,7 +208,7 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
             egui::Grid::new("contacts_grid")
                 .striped(true)
                 .num_columns(9)
-                .spacing([10.0, 2.0])
+                .spacing([7.0, 2.0])
                 .show(ui, |ui| {
                     for (h, tip) in [
                         (
@@ -213,7 +217,6 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
                              the stone without turning it upward (not counted); glide: a planing slide \
                              that never left the water",
                         ),
-                        ("t (s)", "start of the contact"),
                         ("ms", "duration"),
                         (
                             "touches",
@@ -224,6 +227,12 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
                         ("slid (m)", "horizontal distance during the contact"),
                         ("v in", "speed at the start (m/s)"),
                         ("β in", "angle of the velocity below the horizontal at the start"),
+                        (
+                            "tilt, bank",
+                            "the stone's attitude when it met the water (°): tilt, its leading \
+                             edge up (below zero: nose-down, it digs in); bank, its roll (over \
+                             20°: on its edge)",
+                        ),
                         (
                             "peak g",
                             "the water's largest upward push over the stone's weight; Tang et al. \
@@ -241,14 +250,20 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64) {
                             ContactKind::Sank => ("sank", egui::Color32::from_rgb(255, 120, 100)),
                             ContactKind::Glide => ("glide", egui::Color32::from_rgb(120, 200, 255)),
                         };
-                        ui.label(RichText::new(format!("{} {mark}", i + 1)).color(color));
-                        ui.monospace(format!("{:.3}", c.t_start));
+                        ui.label(RichText::new(format!("{} {mark}", i + 1)).color(color))
+                            .on_hover_text(format!("began at t = {:.3} s", c.t_start));
                         ui.monospace(format!("{:.1}", 1000.0 * (c.t_end - c.t_start)));
                         ui.monospace(format!("{}", c.touches));
                         ui.monospace(format!("{:.2}", c.x));
                         ui.monospace(format!("{:.2}", slide_distance(c)));
                         ui.monospace(format!("{:.2}", DVec3::from_array(c.v_in).length()));
                         ui.monospace(format!("{:.1}°", c.beta_in));
+                        let tenth = |x: f64| (x * 10.0).round() / 10.0 + 0.0;
+                        ui.monospace(format!(
+                            "{:+.1}° {:+.0}°",
+                            tenth(c.attitude_in[0]),
+                            c.attitude_in[1].round() + 0.0
+                        ));
                         ui.monospace(
                             c.peak_g()
                                 .map_or_else(|| "—".to_owned(), |g| format!("{g:.1}")),

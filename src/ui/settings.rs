@@ -9,26 +9,13 @@ use crate::sim::params::{
     MemoryParams, Physics, Precision, PressureSign, Quadrature, Rotation, Shape, StoneParams,
     Swell, WaterParams, MAX_WATER_COLUMNS,
 };
+pub use crate::sim::world::World;
 
 use super::ViewSettings;
 
 const TAU: f64 = std::f64::consts::TAU;
 
-/// The launch and stone sliders' ranges, in the panels' units; the Experiments panel sweeps
-/// within the same ones (`app::experiments::Knob::range`).
-pub mod ranges {
-    use std::ops::RangeInclusive;
-    /// m/s
-    pub const SPEED: RangeInclusive<f64> = 0.5..=40.0;
-    /// degrees
-    pub const TILT: RangeInclusive<f64> = -45.0..=75.0;
-    /// rev/s
-    pub const SPIN: RangeInclusive<f64> = -75.0..=75.0;
-    /// m, the launch height
-    pub const HEIGHT: RangeInclusive<f64> = 0.0..=5.0;
-    /// kg
-    pub const MASS: RangeInclusive<f64> = 0.005..=3.0;
-}
+pub use crate::sweep::ranges;
 
 /// What a typed number means: a finite number, or nothing (then the field keeps its old value).
 /// Rust's parser accepts "nan" and "inf", which a clamped slider would turn into its maximum.
@@ -41,11 +28,35 @@ pub fn parse_finite(text: &str) -> Option<f64> {
         .filter(|v| v.is_finite())
 }
 
+thread_local! {
+    /// The last number typed into a [`slider`], with its range: [`row`] reads it after the row's
+    /// widget to say when the value was clamped.
+    static TYPED: std::cell::Cell<Option<(f64, f64, f64)>> = const { std::cell::Cell::new(None) };
+}
+
 fn slider<'a>(value: &'a mut f64, range: std::ops::RangeInclusive<f64>) -> Slider<'a> {
+    let (lo, hi) = (*range.start(), *range.end());
     Slider::new(value, range)
         .update_while_editing(false)
         .clamping(SliderClamping::Always)
-        .custom_parser(parse_finite)
+        .custom_parser(move |text| {
+            let v = parse_finite(text);
+            if let Some(x) = v {
+                TYPED.with(|t| t.set(Some((x, lo, hi))));
+            }
+            v
+        })
+}
+
+/// The note for a typed `x` that the range `lo..=hi` clamped; `None` when it fitted.
+pub fn clamp_note(x: f64, lo: f64, hi: f64) -> Option<String> {
+    if x > hi {
+        Some(format!("{x} is over the most, {hi}: set to {hi}"))
+    } else if x < lo {
+        Some(format!("{x} is under the least, {lo}: set to {lo}"))
+    } else {
+        None
+    }
 }
 
 fn grid(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui) -> bool) -> bool {
@@ -199,7 +210,24 @@ fn row(
     let (preset, label_id) = labelled_row_ui(ui, marks, &[key], label, tip);
     // The row's own id: a banner or warning drawn above it never renumbers its widget (a field
     // being typed in keeps its focus).
+    TYPED.with(|t| t.set(None));
     let mut r = ui.push_id(key, add).inner.labelled_by(label_id);
+    // A typed value the range clamped says so, on a line of its own under the row, until the
+    // row changes again.
+    let note_id = ui.scope_id().with(("clamp note", key));
+    match TYPED.with(std::cell::Cell::take) {
+        Some((x, lo, hi)) => {
+            let note = clamp_note(x, lo, hi);
+            ui.data_mut(|d| match note {
+                Some(n) => {
+                    d.insert_temp(note_id, n);
+                }
+                None => d.remove::<String>(note_id),
+            });
+        }
+        None if r.changed() => ui.data_mut(|d| d.remove::<String>(note_id)),
+        None => {}
+    }
     if !tip.is_empty() {
         r = r.on_hover_text(tip);
     }
@@ -207,7 +235,43 @@ fn row(
         r = r.on_hover_text(format!("Loaded preset: {v}"));
     }
     ui.end_row();
+    if let Some(note) = ui.data(|d| d.get_temp::<String>(note_id)) {
+        ui.label("");
+        ui.label(egui::RichText::new(note).color(egui::Color32::from_rgb(255, 200, 120)));
+        ui.end_row();
+    }
     r.changed()
+}
+
+/// The world row: Earth, Moon, Mars or no air, each setting gravity and the air together.
+fn world_ui(ui: &mut Ui, physics: &mut Physics) -> bool {
+    ui.label("World").on_hover_text(
+        "Sets gravity and the air together. On the Moon (1.62 m/s², no air) the stone falls \
+             six times more gently: each hop lasts six times longer and goes six times farther \
+             for the same speed, and with no air to slow it, it skips far",
+    );
+    let now = World::of(physics);
+    let mut changed = false;
+    ui.horizontal(|ui| {
+        for w in World::ALL {
+            if ui
+                .selectable_label(now == Some(w), w.name())
+                .on_hover_text(format!(
+                    "gravity {} m/s², {}",
+                    w.gravity(),
+                    w.air_density()
+                        .map_or("no air".to_owned(), |d| format!("air {d} kg/m³"))
+                ))
+                .clicked()
+                && now != Some(w)
+            {
+                w.apply(physics);
+                changed = true;
+            }
+        }
+    });
+    ui.end_row();
+    changed
 }
 
 /// Launch: speed, elevation and heading of the throw, the stone's attitude, position and spin.
@@ -635,7 +699,7 @@ const CLASS_PHYSICS: &[&str] = &[
 pub fn physics_ui(ui: &mut Ui, physics: &mut Physics, marks: &Marks) -> bool {
     let mut changed = false;
     changed |= grid(ui, "physics", |ui| {
-        let mut c = false;
+        let mut c = world_ui(ui, physics);
         c |= row(ui, marks, "gravity", "Gravity", "g", |ui| {
             ui.add(slider(&mut physics.gravity, 0.0..=30.0).suffix(" m/s²"))
         });

@@ -20,6 +20,7 @@
 
 pub mod air;
 pub mod contact;
+pub mod ending;
 pub mod hydro;
 pub mod integrate;
 pub mod kernel;
@@ -33,6 +34,7 @@ pub mod scenario;
 pub mod smooth;
 pub mod stone;
 pub mod water;
+pub mod world;
 
 #[cfg(test)]
 mod touch_tests;
@@ -43,6 +45,7 @@ use glam::{DMat3, DQuat, DVec3};
 use serde::Serialize;
 
 use air::Air;
+pub use ending::{ending, Ending};
 use hydro::{
     lowest_clearance, underside_submerged, FaceLoad, FlatSurface, ForceSum, HydroParams, Scratch,
     Surface,
@@ -775,6 +778,18 @@ impl Simulation {
         }
     }
 
+    /// Why the run ended, from its outcome and its last touch ([`ending()`]): the same words
+    /// as the summary's, without copying the contacts.
+    pub fn ending(&self) -> Ending {
+        ending::read(
+            self.motion.outcome,
+            &self.motion.contacts,
+            self.skips(),
+            self.distance(),
+            self.end_time().unwrap_or(self.motion.time),
+        )
+    }
+
     /// Runs until the stone's outcome is decided, calling `on_step` after every accepted step.
     /// `cancel` is polled once per tick; a cancelled run ends as it stands (no outcome).
     pub fn run(
@@ -790,8 +805,8 @@ impl Simulation {
 
     /// Stops stepping the water when nothing the run reports depends on it: with wavy contact off
     /// the stone meets the plane z = 0, so its motion,
-    /// contacts and outcome are the same with the water at rest (the lake's extent still bounds
-    /// the run: `left_domain`). Headless runs call this; the app does not (it shows the rings).
+    /// contacts and outcome are the same with the water at rest (and the lake's edge does not end
+    /// the run: only the far limit does). Headless runs call this; the app does not (it shows the rings).
     /// Returns whether the water is now left at rest; the summary says so (`water.stepped`).
     pub fn skip_unread_water(&mut self) -> bool {
         if self.water.is_some() && !self.preset.water.wavy_contact {
@@ -1237,7 +1252,13 @@ impl Simulation {
             self.finish(Outcome::Sank);
             return;
         }
-        let left = match self.lake_geometry() {
+        // The lake's edge ends a throw only where the contact reads the columns (wavy contact);
+        // on the ambient water the columns are a window of the rings the stone leaves, and the
+        // throw runs on past them to the far limit (design.md §4).
+        let left = match self
+            .lake_geometry()
+            .filter(|_| self.preset.water.wavy_contact)
+        {
             Some(g) => !g.contains(s.position.x, s.position.y),
             None => self.distance() > OPEN_WATER_LIMIT,
         };
@@ -1956,6 +1977,26 @@ mod tests {
         assert_eq!(Outcome::Timeout.words(), "still going at the time limit");
     }
 
+    /// Issue 48: on the ambient water (wavy contact off) the lake's edge ends nothing — the stone
+    /// flies on past the columns and the throw ends by its physics; with wavy contact the stone
+    /// reads the columns, so their edge still ends the run (`left_domain`).
+    #[test]
+    fn only_wavy_contact_ends_a_throw_at_the_lake_edge() {
+        let mut p = Preset::default();
+        p.water.size = [3.0, 2.0];
+        p.water.origin = Some([-1.0, -1.0]);
+        p.water.cell = 0.05;
+        p.physics.max_time = 3.0;
+        let ambient = simulate(&p).unwrap();
+        assert_ne!(ambient.outcome, Some(Outcome::LeftDomain), "{ambient:?}");
+        assert!(ambient.distance > 3.0, "{}", ambient.distance);
+        let mut wavy = p.clone();
+        wavy.water.wavy_contact = true;
+        let edged = simulate(&wavy).unwrap();
+        assert_eq!(edged.outcome, Some(Outcome::LeftDomain), "{edged:?}");
+        assert!(edged.distance < 2.5, "{}", edged.distance);
+    }
+
     /// Live physics edits keep a smooth stone's conditions: a faceted spin under free rotation or
     /// is refused with the field named, and the run goes on as it was.
     #[test]
@@ -1982,8 +2023,8 @@ mod tests {
 
     /// A deferred lake (`lake.rs`), handed out every few ticks and stepped on another thread while
     /// the stone runs on, ends bit for bit as the lake stepped at every tick's end, and the stone's
-    /// run is the same; while the grid is out the lake's edge still ends the run, a physics edit is
-    /// refused, and a grid goes back only to the run it came from.
+    /// run is the same; the stone flies on past the lake's edge (the ambient water's columns are a
+    /// window of rings, issue 48), while the grid is out a physics edit is refused, and a grid goes back only to the run it came from.
     #[test]
     fn a_lake_stepped_elsewhere_is_the_lake_stepped_here() {
         let mut p = Preset::default();
@@ -2018,7 +2059,13 @@ mod tests {
         }
         assert!(!away.defer_lake(false));
         assert_eq!(here.summary(), away.summary());
-        assert_eq!(away.outcome(), Some(Outcome::LeftDomain));
+        assert_ne!(away.outcome(), Some(Outcome::LeftDomain));
+        let end = away.state().position;
+        let lake = away.lake_geometry().unwrap();
+        assert!(
+            !lake.contains(end.x, end.y),
+            "ended at {end:?}, inside the lake"
+        );
         let (a, b) = (here.water().unwrap(), away.water().unwrap());
         assert_eq!(a.steps(), b.steps());
         assert!(a.steps() > 20 && a.max_abs_eta() > 1e-4, "{}", a.steps());
