@@ -198,7 +198,7 @@ pub struct Point {
     pub skips: usize,
     /// m, along the ground from the launch point to where it ended.
     pub distance: f64,
-    /// Why it ended in words ([`crate::sim::ending`]: "too slow to skip", "dug in nose-down at
+    /// Why it ended in words ([`crate::sim::ending()`]: "too slow to skip", "dug in nose-down at
     /// touch 3 (tilt -1.1°)", …), or why the throw could not start.
     pub outcome: String,
     /// Whether the numbers are the throw's result, not a bound of the simulation's (the lake's

@@ -298,7 +298,7 @@ pub struct Shown {
     pub timing: FrameTiming,
     /// The outcome in a word or two, for the top bar ("sank").
     pub outcome: Option<String>,
-    /// Why the throw ended, in full ([`crate::sim::ending`]), for the contacts table.
+    /// Why the throw ended, in full ([`crate::sim::ending()`]), for the contacts table.
     pub ending: Option<String>,
     pub dropping_now: bool,
     pub dropped_total: f64,

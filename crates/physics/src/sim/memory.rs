@@ -40,7 +40,7 @@
 //!
 //! Π_c (`strip_frequency`) the linearised Wagner strip's fall of its lag with the reduced frequency
 //! (docs/studies/wagner_lag: λ_c(ω̂)/λ_c(0) ≈ 1/(1 + ω̂/Π_c), Π_c ≈ 0.09–0.15 on its b/s = 2–3
-//! curves), ṡ_g = (∂s_g/∂d_g) ḋ_g with Π held at most [`MAX_REDUCED_FREQUENCY`]; A (`entry_lead`)
+//! curves), ṡ_g = (∂s_g/∂d_g) ḋ_g with Π held at most `MAX_REDUCED_FREQUENCY` (5); A (`entry_lead`)
 //! Wagner's condition, the wetted extent of an entering body outrunning the geometric one (4/3 a
 //! flat plate from a fixed edge, ½–¾ with a Kutta edge and a finite patch). ḋ_g is the sinking
 //! speed of the shape's support point (the envelope theorem). The lead only deepens d_e while the
