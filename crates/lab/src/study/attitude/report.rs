@@ -2,7 +2,7 @@
 //! report with each finding named physics (with its source) or fixed (with its test).
 
 use super::{
-    AirRow, OneContact, Results, Throw, Variant, ZigRow, CLANET_ANGLE_DEG, CLANET_SPEED,
+    AirRow, Landing, OneContact, Results, Throw, Variant, ZigRow, CLANET_ANGLE_DEG, CLANET_SPEED,
     CP_SLENDER_CIRCLE, CP_THIN_AEROFOIL,
 };
 use crate::study::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
@@ -25,6 +25,15 @@ fn f1(v: f64) -> String {
 }
 
 fn write_csvs(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
+    air_csv(ctx, r)?;
+    clanet_csv(ctx, r)?;
+    spin_csvs(ctx, r)?;
+    landings_csv(ctx, r)?;
+    mass_csv(ctx, r)
+}
+
+/// The flight to the first touch under each air variant.
+fn air_csv(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
     let mut air = Csv::new(&[
         "speed_m_s",
         "variant",
@@ -55,8 +64,11 @@ fn write_csvs(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
             a.throw.distance.into(),
         ]);
     }
-    ctx.write_csv("air_moment.csv", &air)?;
+    ctx.write_csv("air_moment.csv", &air)
+}
 
+/// Clanet's disc through one contact, over spin.
+fn clanet_csv(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
     let mut cl = Csv::new(&[
         "spin_rev_s",
         "duration_s",
@@ -93,8 +105,11 @@ fn write_csvs(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
             c.nutation.into(),
         ]);
     }
-    ctx.write_csv("clanet_contact.csv", &cl)?;
+    ctx.write_csv("clanet_contact.csv", &cl)
+}
 
+/// The default's skips and mean tilt against spin, and the held count against tilt.
+fn spin_csvs(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
     let mut sp = Csv::new(&[
         "spin_rev_s",
         "skips_free",
@@ -123,8 +138,11 @@ fn write_csvs(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
     for &(t, n) in &r.held_tilts {
         ht.push(vec![t.into(), n.into()]);
     }
-    ctx.write_csv("held_tilt.csv", &ht)?;
+    ctx.write_csv("held_tilt.csv", &ht)
+}
 
+/// Every landing of the zig-zag cases and of the spin sweep.
+fn landings_csv(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
     let mut land = Csv::new(&[
         "case",
         "value",
@@ -145,57 +163,57 @@ fn write_csvs(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
             (Variant::NoMoment, &z.no_moment),
             (Variant::Held, &z.held),
         ] {
-            for (i, l) in t.landings.iter().enumerate() {
-                land.push(vec![
-                    z.case.into(),
-                    z.value.into(),
-                    variant.key().into(),
-                    (i + 1).into(),
-                    l.x.into(),
-                    l.speed.into(),
-                    l.beta.into(),
-                    l.tilt.into(),
-                    l.bank.into(),
-                    l.tilt_out.into(),
-                    l.bank_out.into(),
-                    l.skip.into(),
-                ]);
-            }
+            push_landings(&mut land, z.case, z.value, variant, &t.landings);
         }
     }
     for x in &r.spin {
-        for (i, l) in x.free.landings.iter().enumerate() {
-            land.push(vec![
-                "spin".into(),
-                x.rev_s.into(),
-                Variant::Shipped.key().into(),
-                (i + 1).into(),
-                l.x.into(),
-                l.speed.into(),
-                l.beta.into(),
-                l.tilt.into(),
-                l.bank.into(),
-                l.tilt_out.into(),
-                l.bank_out.into(),
-                l.skip.into(),
-            ]);
-        }
+        push_landings(
+            &mut land,
+            "spin",
+            x.rev_s,
+            Variant::Shipped,
+            &x.free.landings,
+        );
     }
-    ctx.write_csv("landings.csv", &land)?;
+    ctx.write_csv("landings.csv", &land)
+}
 
-    if !r.mass_sweep.is_empty() {
-        let mut ms = Csv::new(&[
-            "mass_kg",
-            "skips",
-            "second_landing_tilt_deg",
-            "second_landing_bank_deg",
-        ]);
-        for &(m, n, t, b) in &r.mass_sweep {
-            ms.push(vec![m.into(), n.into(), t.into(), b.into()]);
-        }
-        ctx.write_csv("mass_sweep.csv", &ms)?;
+/// The finer mass sweep, when it ran.
+fn mass_csv(ctx: &Ctx, r: &Results) -> Result<(), StudyError> {
+    if r.mass_sweep.is_empty() {
+        return Ok(());
     }
+    let mut ms = Csv::new(&[
+        "mass_kg",
+        "skips",
+        "second_landing_tilt_deg",
+        "second_landing_bank_deg",
+    ]);
+    for &(m, n, t, b) in &r.mass_sweep {
+        ms.push(vec![m.into(), n.into(), t.into(), b.into()]);
+    }
+    ctx.write_csv("mass_sweep.csv", &ms)?;
     Ok(())
+}
+
+/// One row per landing of `landings`, numbered from 1.
+fn push_landings(csv: &mut Csv, case: &str, value: f64, variant: Variant, landings: &[Landing]) {
+    for (i, l) in landings.iter().enumerate() {
+        csv.push(vec![
+            case.into(),
+            value.into(),
+            variant.key().into(),
+            (i + 1).into(),
+            l.x.into(),
+            l.speed.into(),
+            l.beta.into(),
+            l.tilt.into(),
+            l.bank.into(),
+            l.tilt_out.into(),
+            l.bank_out.into(),
+            l.skip.into(),
+        ]);
+    }
 }
 
 /// spin.png: skips against spin, free and held at the mean tilt, with the mean tilt.
