@@ -1,6 +1,6 @@
 //! Fuzz target (a): preset text → load. The logic and its
 //! invariants are in `harness/preset_load.rs`, shared with the stable replay test
-//! `tests/fuzz_regressions.rs`.
+//! `crates/physics/tests/fuzz_regressions.rs`.
 #![no_main]
 
 #[path = "../harness/preset_load.rs"]

@@ -1,6 +1,6 @@
 //! Fuzz target (b): a valid preset in the app's ranges → simulate. The logic and its
 //! invariants are in `harness/simulate.rs`, shared with the stable replay test
-//! `tests/fuzz_regressions.rs`.
+//! `crates/physics/tests/fuzz_regressions.rs`.
 #![no_main]
 
 #[path = "../harness/simulate.rs"]

@@ -1,6 +1,6 @@
 //! Fuzz target (c): the water grid under random settings, deposits and steps. The logic and its
 //! invariants are in `harness/water.rs`, shared with the stable replay test
-//! `tests/fuzz_regressions.rs`.
+//! `crates/physics/tests/fuzz_regressions.rs`.
 #![no_main]
 
 #[path = "../harness/water.rs"]

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use stoneskip::preset::{self, PresetError};
+use stoneskip_physics::preset::{self, PresetError};
 
 /// Runs the target on one input; panics on a finding.
 pub fn run(data: &[u8]) {

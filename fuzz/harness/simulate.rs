@@ -6,11 +6,11 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use arbitrary::{Result, Unstructured};
-use stoneskip::sim::params::{
+use stoneskip_physics::sim::params::{
     AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Limiter, Precision, Preset,
     PressureCentre, PressureSign, Quadrature, Rotation, Shape, Swell,
 };
-use stoneskip::sim::Simulation;
+use stoneskip_physics::sim::Simulation;
 
 /// A number in [lo, hi].
 fn num(u: &mut Unstructured, lo: f64, hi: f64) -> Result<f64> {
@@ -218,11 +218,11 @@ fn quadrature(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
 static WORST: AtomicU64 = AtomicU64::new(0);
 
 /// The stepper's own bound on the work of one tick: its evaluation guard
-/// ([`stoneskip::sim::MAX_EVALS_PER_TICK`], checked before each step) plus the last step's own work
+/// ([`stoneskip_physics::sim::MAX_EVALS_PER_TICK`], checked before each step) plus the last step's own work
 /// (at most ~180 shrinking attempts of 6 evaluations from a 20 ms tick to the 10⁻¹⁰ s floor, and
 /// the event location's few more). The step guard alone bounded nothing: a step may follow many
 /// rejected attempts (2·10⁷ evaluations in one tick were found by the headless soak).
-const MAX_EVALS_PER_TICK: u64 = stoneskip::sim::MAX_EVALS_PER_TICK + 10_000;
+const MAX_EVALS_PER_TICK: u64 = stoneskip_physics::sim::MAX_EVALS_PER_TICK + 10_000;
 
 /// Runs the target on one input; panics on a finding.
 pub fn run(data: &[u8]) {
@@ -265,7 +265,7 @@ pub fn run(data: &[u8]) {
         if let Some(w) = sim.water() {
             // Finding W1 (docs/reliability.md): the K limiter can leave a drained column a
             // rounding below zero; let that through (a few units of the storage's rounding of the
-            // deepest possible column) so the campaign goes on; tests/fuzz_regressions.rs holds
+            // deepest possible column) so the campaign goes on; crates/physics/tests/fuzz_regressions.rs holds
             // the strict bound.
             let eps = match p.water.precision {
                 Precision::F32 => 4.0 * f64::from(f32::EPSILON),

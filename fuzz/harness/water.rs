@@ -4,8 +4,8 @@
 //! volume is one the test made itself (`add_volume`).
 
 use arbitrary::{Result, Unstructured};
-use stoneskip::sim::params::{Limiter, Precision};
-use stoneskip::sim::water::{WaterConfig, WaterGrid};
+use stoneskip_physics::sim::params::{Limiter, Precision};
+use stoneskip_physics::sim::water::{WaterConfig, WaterGrid};
 
 fn num(u: &mut Unstructured, lo: f64, hi: f64) -> Result<f64> {
     let k: u32 = u.arbitrary()?;
@@ -124,7 +124,7 @@ pub fn run(data: &[u8]) {
         assert!(v.is_finite(), "volume {v}");
         // Finding W1 (docs/reliability.md): a column drained dry by the K limiter can end at a
         // depth of −1e-18 m (rounding of d + β(in − K·out)); the replay test
-        // `tests/fuzz_regressions.rs::drained_column_keeps_a_non_negative_depth` holds the strict
+        // `crates/physics/tests/fuzz_regressions.rs::drained_column_keeps_a_non_negative_depth` holds the strict
         // bound. Here rounding-sized negatives are let through so the campaign goes on past it.
         // The deepest a column can be: all the water in it.
         let deepest = expected / (l * l);

@@ -3,7 +3,4 @@
 //! (speed against accuracy, stability, the magic angle, whole throws) and are reached from the
 //! command line as `stoneskip study NAME`; nothing in the app depends on them.
 
-use stoneskip_physics::{preset, sim};
-use stoneskip_reference as reference;
-
 pub mod study;

@@ -325,6 +325,28 @@ mod tests {
         }
     }
 
+    /// Every shipped preset is written in the newest schema, and says nothing a user cannot read:
+    /// no issue numbers, no source paths.
+    #[test]
+    fn every_shipped_preset_is_version_2_in_plain_words() {
+        for (stem, text) in SHIPPED {
+            assert_eq!(schema_of(text), LATEST_SCHEMA, "{stem}");
+            assert_eq!(parse(text, Path::new(stem)).unwrap().version, 2, "{stem}");
+            assert!(!text.contains("issue") && !text.contains("src/"), "{stem}");
+        }
+        // The default names every field where the schemas' bases differ: it reads the same with
+        // version 1's base as with its own.
+        let as_v1 = with_schema(1, || {
+            ron::Options::default().from_str::<Preset>(crate::sim::params::SHIPPED_DEFAULT_RON)
+        })
+        .unwrap();
+        let as_v2 = with_schema(2, || {
+            ron::Options::default().from_str::<Preset>(crate::sim::params::SHIPPED_DEFAULT_RON)
+        })
+        .unwrap();
+        assert_eq!(as_v1, as_v2);
+    }
+
     #[test]
     fn default_round_trips() {
         let p = Preset::version_1();

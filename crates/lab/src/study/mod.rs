@@ -28,9 +28,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Once;
 use std::time::Instant;
 
-use crate::reference::ReferenceError;
-use crate::sim::params::ParamError;
-use crate::sim::SimError;
+use stoneskip_physics::sim::params::ParamError;
+use stoneskip_physics::sim::SimError;
+use stoneskip_reference::ReferenceError;
 
 /// The studies `run_study` knows, in the order `all` runs them.
 pub const STUDIES: [&str; 8] = [

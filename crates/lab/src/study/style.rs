@@ -3,7 +3,7 @@
 //! integrators and force laws, and the skip-count classes of the phase maps. Pure data: the chart
 //! backend (plotters, behind the `charts` feature) converts [`Rgb`] when it draws.
 
-use crate::sim::params::{ForceLaw, Integrator};
+use stoneskip_physics::sim::params::{ForceLaw, Integrator};
 
 /// An sRGB colour, 8 bits a channel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

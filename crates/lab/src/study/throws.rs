@@ -4,9 +4,9 @@
 //! (`Preset::version_1()`: a 5 cm, 100 g lens, Rosellini law, locked attitude); the phase study uses
 //! Clanet's aluminium disc (R 2.5 cm, e 2.75 mm, 14.579 g).
 
-use crate::reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
-use crate::sim::params::{ForceLaw, Integrator, Preset, Rotation, Shape, StoneParams};
-use crate::sim::scenario::{at_impact, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::params::{ForceLaw, Integrator, Preset, Rotation, Shape, StoneParams};
+use stoneskip_physics::sim::scenario::{at_impact, IMPACT_CLEARANCE};
+use stoneskip_reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
 
 use super::StudyError;
 

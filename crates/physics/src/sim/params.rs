@@ -52,8 +52,9 @@ pub struct Preset {
 }
 
 /// The shipped default throw as compiled in: the base of a `version: 2` preset's omitted fields and
-/// [`Preset::default`]. It names every field where the two schemas differ, and it is read as
-/// `version: 1` (the schema it is written in).
+/// [`Preset::default`]. It is written as `version: 2` and names every field where the two schemas
+/// differ, so it reads the same with either base; it is parsed with version 1's (its own omitted
+/// fields cannot come from itself).
 pub(crate) const SHIPPED_DEFAULT_RON: &str = include_str!("../../../../assets/presets/default.ron");
 
 /// The newest preset schema: omitted fields mean the shipped default.

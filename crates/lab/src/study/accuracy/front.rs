@@ -7,7 +7,7 @@
 //! 300× goal is stated in; the force evaluations are the noise-free companion. Work-precision
 //! charts after Hairer, Nørsett & Wanner, *Solving ODEs I* §II.10.
 
-use crate::sim::params::{Preset, Quadrature};
+use stoneskip_physics::sim::params::{Preset, Quadrature};
 
 use super::{
     discretisation_name, errors, is_discretisation, measure, triangles, Discretisation, Errors,
@@ -209,7 +209,7 @@ pub fn front_sweep(ctx: &Ctx, throw: FrontThrow) -> Result<Front, StudyError> {
     let base = throw.preset.clone();
     let shipped = (
         base.stone.segments,
-        crate::sim::stone::lens_bands(base.stone.segments, base.stone.bands),
+        stoneskip_physics::sim::stone::lens_bands(base.stone.segments, base.stone.bands),
         base.physics.tolerance,
     );
     let FrontSettings {
@@ -797,7 +797,7 @@ mod tests {
     fn the_full_sweep_contains_the_shipped_setting() {
         let p = Preset::default();
         let sweep = front_settings(false);
-        let bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
+        let bands = stoneskip_physics::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
         assert!(sweep.meshes.contains(&(p.stone.segments, bands)));
         assert!(sweep.tolerances.contains(&p.physics.tolerance));
         if let Quadrature::Smooth { meridian, around } = p.stone.quadrature {

@@ -12,8 +12,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::sim::params::{Integrator, Preset};
-use crate::sim::{simulate, Simulation};
+use stoneskip_physics::sim::params::{Integrator, Preset};
+use stoneskip_physics::sim::{simulate, Simulation};
 
 use super::style::{colors, integrator_color, integrator_name, Rgb};
 use super::table::sig;
@@ -27,8 +27,8 @@ pub use front::{Front, FrontPoint};
 
 /// The triangles of a stone's mesh, built alone (a whole `Stone` would build the force kernel's
 /// structures too).
-pub(super) fn triangles(stone: &crate::sim::params::StoneParams) -> usize {
-    crate::sim::stone::build_mesh(&stone.shape, stone.segments, stone.bands)
+pub(super) fn triangles(stone: &stoneskip_physics::sim::params::StoneParams) -> usize {
+    stoneskip_physics::sim::stone::build_mesh(&stone.shape, stone.segments, stone.bands)
         .triangles
         .len()
 }
@@ -541,9 +541,10 @@ pub fn bands_sweep(ctx: &Ctx, throw_list: &[Throw]) -> Result<Vec<BandsPoint>, S
                 }
                 if let Some((meridian, around)) = smooth {
                     p.stone.quadrature =
-                        crate::sim::params::Quadrature::Smooth { meridian, around };
+                        stoneskip_physics::sim::params::Quadrature::Smooth { meridian, around };
                 }
-                let bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
+                let bands =
+                    stoneskip_physics::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
                 let tri = if smooth.is_some() {
                     0
                 } else {
@@ -748,7 +749,7 @@ fn rel_l2(a: &[f64], b: &[f64]) -> f64 {
 pub const SMOOTH_WIDTH: f64 = 0.2;
 
 /// Mean of η over a 9 × 9 lattice spanning a [`SMOOTH_WIDTH`] square centred on (x, y).
-fn box_mean(w: &crate::sim::water::WaterGrid, x: f64, y: f64) -> f64 {
+fn box_mean(w: &stoneskip_physics::sim::water::WaterGrid, x: f64, y: f64) -> f64 {
     let h = SMOOTH_WIDTH / 8.0;
     let mut sum = 0.0;
     for j in -4..=4 {
@@ -834,7 +835,8 @@ mod tests {
     fn the_shipped_lens_and_cell_are_in_the_full_sweeps() {
         let p = Preset::default();
         assert!(mesh_segments(false).contains(&p.stone.segments));
-        let shipped_bands = crate::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
+        let shipped_bands =
+            stoneskip_physics::sim::stone::lens_bands(p.stone.segments, p.stone.bands);
         assert!(band_meshes(false).contains(&(p.stone.segments, shipped_bands)));
         assert_eq!(band_meshes(false)[0], (192, 96));
         assert!(water_cells(false)

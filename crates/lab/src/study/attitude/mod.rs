@@ -26,11 +26,11 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::preset;
-use crate::sim::params::{Preset, Rotation, Shape, StoneParams};
-use crate::sim::scenario::{at_impact, IMPACT_CLEARANCE};
-use crate::sim::stone::orientation_from_attitude;
-use crate::sim::{simulate, Simulation};
+use stoneskip_physics::preset;
+use stoneskip_physics::sim::params::{Preset, Rotation, Shape, StoneParams};
+use stoneskip_physics::sim::scenario::{at_impact, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::stone::orientation_from_attitude;
+use stoneskip_physics::sim::{simulate, Simulation};
 
 use super::{check_cancel, Ctx, StudyError};
 
@@ -366,10 +366,10 @@ pub fn clanet(rev_s: f64) -> Result<Preset, StudyError> {
     p.name = "Clanet disc".into();
     p.stone = StoneParams {
         shape: Shape::Disk {
-            radius: crate::reference::CLANET_RADIUS,
-            thickness: crate::reference::CLANET_THICKNESS,
+            radius: stoneskip_reference::CLANET_RADIUS,
+            thickness: stoneskip_reference::CLANET_THICKNESS,
         },
-        mass: crate::reference::CLANET_MASS,
+        mass: stoneskip_reference::CLANET_MASS,
         segments: 48,
         bands: None,
         quadrature: Default::default(),

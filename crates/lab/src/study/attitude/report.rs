@@ -616,7 +616,7 @@ fn clanet_findings(r: &Results) -> String {
             c.nutation,
             sig(c.impulse, 3),
             1e3 * c.lever,
-            100.0 * c.lever / crate::reference::CLANET_RADIUS,
+            100.0 * c.lever / stoneskip_reference::CLANET_RADIUS,
             sig(c.moment_impulse, 3),
             sig(c.momentum, 3),
             c.gyro_turn,

@@ -6,7 +6,7 @@
 
 use rayon::prelude::*;
 
-use crate::sim::params::{Integrator, Preset};
+use stoneskip_physics::sim::params::{Integrator, Preset};
 
 use super::accuracy::{
     self, errors, measure, throw_preset, Errors, MeshPoint, Setting, WaterPoint, REF_TICK,
@@ -134,7 +134,10 @@ fn shipped_of(name: &str, p: &Preset) -> Shipped {
         segments: p.stone.segments,
         cell: p.water.cell,
         water: p.water.enabled,
-        lens: matches!(p.stone.shape, crate::sim::params::Shape::Lens { .. }),
+        lens: matches!(
+            p.stone.shape,
+            stoneskip_physics::sim::params::Shape::Lens { .. }
+        ),
     }
 }
 
@@ -142,10 +145,13 @@ fn shipped_of(name: &str, p: &Preset) -> Shipped {
 /// order.
 pub fn shipped_presets() -> Vec<Shipped> {
     let mut out = vec![shipped_of("Preset::version_1()", &Preset::version_1())];
-    let mut stems: Vec<&str> = crate::preset::SHIPPED.iter().map(|(s, _)| *s).collect();
+    let mut stems: Vec<&str> = stoneskip_physics::preset::SHIPPED
+        .iter()
+        .map(|(s, _)| *s)
+        .collect();
     stems.sort_unstable();
     for stem in stems {
-        if let Some(Ok(p)) = crate::preset::shipped(stem) {
+        if let Some(Ok(p)) = stoneskip_physics::preset::shipped(stem) {
             out.push(shipped_of(&format!("{stem}.ron"), &p));
         }
     }

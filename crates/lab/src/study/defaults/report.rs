@@ -1,7 +1,7 @@
 //! The defaults study's outputs: knobs.csv, the defaults chart and the Markdown report, from
 //! [`Results`].
 
-use crate::sim::params::{Integrator, Preset};
+use stoneskip_physics::sim::params::{Integrator, Preset};
 
 use super::{
     evals_of, shipped_presets, ticks, tolerances, worst_of, KnobPoint, Recommendation, Results,

@@ -14,16 +14,16 @@
 //!
 //! Compute, then results, then the report.
 
-use crate::sim::params::Preset;
-use crate::sim::scenario::{at_impact, min_speed, IMPACT_CLEARANCE};
-use crate::sim::{Outcome, Simulation};
+use stoneskip_physics::sim::params::Preset;
+use stoneskip_physics::sim::scenario::{at_impact, min_speed, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::{Outcome, Simulation};
 
 use super::super::table::{md_table, sig, Csv};
 use super::super::{check_cancel, Ctx, StudyError};
 use super::common::{before, par_map, shipped_for, QUICK_CELL};
 
 /// Tang et al.'s threshold: a bounce needs an acceleration above this many g.
-pub const TANG_G: f64 = crate::sim::TANG_BOUNCE_G;
+pub const TANG_G: f64 = stoneskip_physics::sim::TANG_BOUNCE_G;
 
 /// The impact angle of the first-contact sweeps (°): the default throw, released level from
 /// 30 cm at 12 m/s, meets the water at 11°.
@@ -174,7 +174,7 @@ fn base(model: Model, tilt_deg: f64, quick: bool) -> Result<Preset, StudyError> 
             let mut p = shipped;
             p.water.wavy_contact = false;
             if model == Model::FlatLocked {
-                p.physics.rotation = crate::sim::params::Rotation::Locked;
+                p.physics.rotation = stoneskip_physics::sim::params::Rotation::Locked;
             }
             p
         }
@@ -862,7 +862,7 @@ mod tests {
     fn a_whole_throw_reads_every_contact_and_its_skips() {
         let p = before(&shipped_for("default", true).unwrap());
         let (touches, outcome) = touches(&p, false).unwrap();
-        let summary = crate::sim::simulate(&p).unwrap();
+        let summary = stoneskip_physics::sim::simulate(&p).unwrap();
         assert_eq!(outcome, summary.outcome);
         assert_eq!(touches.len(), summary.contacts.len());
         let bounces = touches.iter().filter(|t| t.kind == Kind::Bounce).count();

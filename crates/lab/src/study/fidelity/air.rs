@@ -6,9 +6,9 @@
 
 use std::f64::consts::TAU;
 
-use crate::sim::air::Air;
-use crate::sim::metrics::ThrowShape;
-use crate::sim::stone::{orientation_from_attitude, Stone};
+use stoneskip_physics::sim::air::Air;
+use stoneskip_physics::sim::metrics::ThrowShape;
+use stoneskip_physics::sim::stone::{orientation_from_attitude, Stone};
 
 use super::super::table::{md_table, sig, Csv};
 use super::super::{Ctx, StudyError};

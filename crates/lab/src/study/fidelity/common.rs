@@ -5,9 +5,9 @@
 
 use std::f64::consts::TAU;
 
-use crate::sim::metrics::{throw_shape, ThrowShape};
-use crate::sim::params::{AxialSpin, Preset, Rotation};
-use crate::sim::{simulate, Summary};
+use stoneskip_physics::sim::metrics::{throw_shape, ThrowShape};
+use stoneskip_physics::sim::params::{AxialSpin, Preset, Rotation};
+use stoneskip_physics::sim::{simulate, Summary};
 
 use super::super::{check_cancel, StudyError};
 
@@ -88,7 +88,7 @@ pub fn shipped(stem: &str) -> Result<Preset, StudyError> {
         .find(|(s, _)| *s == stem)
         .ok_or_else(|| StudyError::Failed(format!("no shipped preset `{stem}`")))?;
     let path = format!("assets/presets/{stem}.ron");
-    crate::preset::parse(text, std::path::Path::new(&path))
+    stoneskip_physics::preset::parse(text, std::path::Path::new(&path))
         .map_err(|e| StudyError::Failed(e.to_string()))
 }
 

@@ -14,9 +14,9 @@
 
 use glam::DVec3;
 
-use crate::sim::metrics::{hovercraft, ThrowShape};
-use crate::sim::params::{Preset, Shape};
-use crate::sim::{Outcome, Simulation};
+use stoneskip_physics::sim::metrics::{hovercraft, ThrowShape};
+use stoneskip_physics::sim::params::{Preset, Shape};
+use stoneskip_physics::sim::{Outcome, Simulation};
 
 use super::super::table::{md_table, sig, Csv};
 use super::super::{check_cancel, Ctx, StudyError};
@@ -216,7 +216,7 @@ pub(super) fn grid_run(p: &Preset, dz: f64) -> Result<GridRun, StudyError> {
     }
     let summary = sim.summary();
     let l = p.launch.position;
-    let shape = crate::sim::metrics::throw_shape(&summary, [l[0], l[1]]);
+    let shape = stoneskip_physics::sim::metrics::throw_shape(&summary, [l[0], l[1]]);
     let longest_contact = summary
         .contacts
         .iter()
@@ -276,7 +276,7 @@ pub(super) fn median_distance(runs: &[GridRun]) -> Option<f64> {
 pub(super) fn test_run(skips: usize, distance: f64, final_share: f64) -> GridRun {
     GridRun {
         dz: 0.0,
-        shape: crate::sim::metrics::ThrowShape {
+        shape: stoneskip_physics::sim::metrics::ThrowShape {
             skips,
             distance,
             final_contact_length: final_share * distance,

@@ -14,7 +14,7 @@
 //! planing centre and the spray root; that option is retired and its rows are in
 //! docs/studies/retired.md.) Compute, then results, then the report.
 
-use crate::sim::params::{Preset, Rotation};
+use stoneskip_physics::sim::params::{Preset, Rotation};
 
 use super::super::table::{md_table, sig, Csv};
 use super::super::{Ctx, StudyError};
@@ -334,7 +334,7 @@ fn mechanism_words(l: &LimitStudy, quoted: &Quoted) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::metrics::ThrowShape;
+    use stoneskip_physics::sim::metrics::ThrowShape;
 
     fn run(rev: f64, members: Vec<usize>, tilt: f64) -> SpinRun {
         let shape = ThrowShape {

@@ -24,10 +24,12 @@ use std::f64::consts::TAU;
 
 use glam::DVec3;
 
-use crate::sim::integrate::BodyState;
-use crate::sim::metrics::{hovercraft, tail_hops, TailHop, ThrowShape};
-use crate::sim::params::{AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation};
-use crate::sim::{scenario, Simulation, Summary};
+use stoneskip_physics::sim::integrate::BodyState;
+use stoneskip_physics::sim::metrics::{hovercraft, tail_hops, TailHop, ThrowShape};
+use stoneskip_physics::sim::params::{
+    AxialSpin, ForceLaw, Hydrostatic, Preset, PressureSign, Rotation,
+};
+use stoneskip_physics::sim::{scenario, Simulation, Summary};
 
 use super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};
 use super::style::colors;
@@ -405,7 +407,7 @@ pub struct SpeedRun {
 
 fn record(quick: bool) -> Result<Vec<SpeedRun>, StudyError> {
     let p = shipped("record_throw")?;
-    // The record run is the study's longest (tests/fidelity.rs checks it): full runs only.
+    // The record run is the study's longest (crates/physics/tests/fidelity.rs checks it): full runs only.
     let speeds: Vec<f64> = if quick {
         vec![]
     } else {
@@ -1662,7 +1664,7 @@ fn near_section(f: &Fidelity) -> String {
 
 fn record_section(f: &Fidelity) -> String {
     if f.record.is_empty() {
-        return "\n## 4. Record class\n\nFull runs only (tests/fidelity.rs checks it).\n".into();
+        return "\n## 4. Record class\n\nFull runs only (crates/physics/tests/fidelity.rs checks it).\n".into();
     }
     let mut s = String::from(
         "\n## 4. Record class\n\n`record_throw.ron` (150 g, 7 mm, 30 rev/s) at 19 m/s and slower.\n\n",

@@ -10,8 +10,8 @@
 //! (The 1 cm spectral patch of §10 ran here too until it was retired; its rows are in
 //! docs/studies/retired.md.) Compute, then results, then the report.
 
-use crate::sim::params::Preset;
-use crate::sim::Outcome;
+use stoneskip_physics::sim::params::Preset;
+use stoneskip_physics::sim::Outcome;
 
 use super::super::table::{md_table, sig, Csv};
 use super::super::{Ctx, StudyError};

@@ -17,10 +17,10 @@
 
 pub mod report;
 
-use crate::sim::metrics::ThrowShape;
-use crate::sim::params::{LagLength, MemoryParams, Preset, Quadrature, Rotation};
-use crate::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
-use crate::sim::simulate;
+use stoneskip_physics::sim::metrics::ThrowShape;
+use stoneskip_physics::sim::params::{LagLength, MemoryParams, Preset, Quadrature, Rotation};
+use stoneskip_physics::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::simulate;
 
 use super::fidelity::common::par_map;
 use super::whole_throw::{halve_cell, preset, shape_of, tangential_preset, Change, Model, THROWS};
@@ -218,7 +218,7 @@ fn jobs(quick: bool) -> Vec<Job> {
         j.extend((0..n).map(|i| Job::Throw(stem, i)));
     }
     if !quick {
-        for stem in crate::preset::SHIPPED.map(|(s, _)| s) {
+        for stem in stoneskip_physics::preset::SHIPPED.map(|(s, _)| s) {
             if !THROWS.contains(&stem) {
                 j.push(Job::Throw(stem, 0));
             }
@@ -242,7 +242,7 @@ fn throw(p: &Preset) -> Result<Out, StudyError> {
 
 /// The tilt (degrees, relative to travel) at a throw's first and second landings and its mean
 /// over every landing; NaN where there is none.
-fn landing_tilts(contacts: &[crate::sim::ContactEvent]) -> [f64; 3] {
+fn landing_tilts(contacts: &[stoneskip_physics::sim::ContactEvent]) -> [f64; 3] {
     let at = |i: usize| contacts.get(i).map_or(f64::NAN, |c| c.attitude_in[0]);
     let mean = if contacts.is_empty() {
         f64::NAN

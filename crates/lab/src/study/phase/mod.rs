@@ -10,11 +10,11 @@
 
 use rayon::prelude::*;
 
-use crate::reference::{self, MinSpeedOptions, Plate2d};
-use crate::sim::params::ForceLaw;
-use crate::sim::params::Preset;
-use crate::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
-use crate::sim::Simulation;
+use stoneskip_physics::sim::params::ForceLaw;
+use stoneskip_physics::sim::params::Preset;
+use stoneskip_physics::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::Simulation;
+use stoneskip_reference::{MinSpeedOptions, Plate2d};
 
 use super::style::law_name;
 use super::throws::{clanet_disc, EVAL_CAP};
@@ -57,9 +57,9 @@ pub fn grid(quick: bool) -> Grid {
 pub fn plate_2d(law: ForceLaw, tilt_deg: f64) -> Plate2d {
     let (cl, cf) = law.default_coefficients();
     let l2 = match law {
-        ForceLaw::Rosellini => reference::ForceLaw::Rosellini { c_l: cl, c_f: cf },
-        ForceLaw::Paper => reference::ForceLaw::Newtonian { c_d: cl, c_f: cf },
-        ForceLaw::Bocquet => reference::ForceLaw::bocquet(cl, cf),
+        ForceLaw::Rosellini => stoneskip_reference::ForceLaw::Rosellini { c_l: cl, c_f: cf },
+        ForceLaw::Paper => stoneskip_reference::ForceLaw::Newtonian { c_d: cl, c_f: cf },
+        ForceLaw::Bocquet => stoneskip_reference::ForceLaw::bocquet(cl, cf),
     };
     Plate2d::clanet_disc(tilt_deg.to_radians())
         .with_law(l2)
@@ -181,7 +181,7 @@ pub fn min_speed_curve_2d(law: ForceLaw, tilts: &[f64]) -> Result<Vec<Option<f64
     tilts
         .par_iter()
         .map(|&t| {
-            Ok(reference::min_speed(
+            Ok(stoneskip_reference::min_speed(
                 &plate_2d(law, t),
                 BETA_DEG.to_radians(),
                 &opts,

@@ -18,18 +18,18 @@
 
 use rayon::prelude::*;
 
-use crate::sim::params::{ForceLaw, Preset, PressureCentre, Rotation};
-use crate::sim::scenario::{at_impact, IMPACT_CLEARANCE};
-use crate::sim::Simulation;
+use stoneskip_physics::sim::params::{ForceLaw, Preset, PressureCentre, Rotation};
+use stoneskip_physics::sim::scenario::{at_impact, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::Simulation;
 
 use super::throws::{clanet_disc, EVAL_CAP};
 use super::{check_cancel, linspace_step, logspace, Ctx, StudyError};
 
 mod report;
 
-pub use crate::sim::metrics::fit_exponent;
-pub use crate::sim::scenario::{typical, TYPICAL_RADIUS};
-pub use crate::sim::stone::{axis_from_reported as axis, inclination};
+pub use stoneskip_physics::sim::metrics::fit_exponent;
+pub use stoneskip_physics::sim::scenario::{typical, TYPICAL_RADIUS};
+pub use stoneskip_physics::sim::stone::{axis_from_reported as axis, inclination};
 
 pub const REV: f64 = std::f64::consts::TAU;
 
@@ -166,7 +166,7 @@ pub fn spin_threshold(
 ) -> Result<Option<(f64, f64)>, StudyError> {
     let first = |s: f64| -> Result<(bool, f64), StudyError> {
         let p = clanet_spun(tilt, s, centre)?;
-        let c = crate::sim::scenario::first_contact(&p)?;
+        let c = stoneskip_physics::sim::scenario::first_contact(&p)?;
         Ok(c.map_or((false, 0.0), |c| (c.skipped, c.duration)))
     };
     if !first(hi)?.0 {
@@ -208,7 +208,7 @@ pub fn spin_counts(spins: &[f64]) -> Result<Vec<CountPoint>, StudyError> {
     runs.par_iter()
         .map(|&rev_s| {
             check_cancel()?;
-            let s = crate::sim::simulate(&typical(rev_s))?;
+            let s = stoneskip_physics::sim::simulate(&typical(rev_s))?;
             Ok(CountPoint {
                 rev_s,
                 skips: s.skips,

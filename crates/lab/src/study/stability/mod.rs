@@ -13,11 +13,13 @@
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
-use crate::sim::contact::{heron_area, polygon_area_centroid};
-use crate::sim::params::{ForceLaw, Integrator, Limiter, Preset, Rotation, Shape, StoneParams};
-use crate::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
-use crate::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
-use crate::sim::{Simulation, StepSample};
+use stoneskip_physics::sim::contact::{heron_area, polygon_area_centroid};
+use stoneskip_physics::sim::params::{
+    ForceLaw, Integrator, Limiter, Preset, Rotation, Shape, StoneParams,
+};
+use stoneskip_physics::sim::scenario::{at_impact, first_contact, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
+use stoneskip_physics::sim::{Simulation, StepSample};
 
 use super::throws::{self, FAST};
 use super::{check_cancel, logspace, rel_err, Ctx, StudyError};
@@ -352,7 +354,7 @@ pub fn shallow_lake_drift(
     b.water.origin = Some([-1.0, -1.5]);
     b.water.limiter = limiter;
     // f64 storage: the limiters' own drift, not the rounding of f32 depths (~1e-7).
-    b.water.precision = crate::sim::params::Precision::F64;
+    b.water.precision = stoneskip_physics::sim::params::Precision::F64;
     let p = throws::preset(&FAST, &b)?;
     let mut sim = Simulation::new(&p)?;
     let v0 = sim.water().map_or(1.0, |w| w.volume());
@@ -401,8 +403,9 @@ pub fn sliver_errors(aspect: f64, offset: DVec3) -> (f64, f64) {
 /// the paper's integrator, locked attitude; the water off (it does not act on the stone).
 pub fn paper_preset() -> Result<Preset, StudyError> {
     let text = include_str!("../../../../../assets/presets/paper.ron");
-    let mut p = crate::preset::parse(text, std::path::Path::new("assets/presets/paper.ron"))
-        .map_err(|e| StudyError::Failed(e.to_string()))?;
+    let mut p =
+        stoneskip_physics::preset::parse(text, std::path::Path::new("assets/presets/paper.ron"))
+            .map_err(|e| StudyError::Failed(e.to_string()))?;
     p.water.enabled = false;
     p.physics.max_time = 10.0;
     Ok(p)
@@ -498,7 +501,7 @@ pub fn friction_run(tilt: f64, speed: f64, tolerance: f64) -> Result<FrictionRun
     let mut b = throws::clanet_disc(ForceLaw::Bocquet, tilt);
     b.physics.tolerance = tolerance;
     let p = at_impact(&b, speed, 20f64.to_radians(), IMPACT_CLEARANCE)?;
-    let s = crate::sim::simulate(&p)?;
+    let s = stoneskip_physics::sim::simulate(&p)?;
     Ok(FrictionRun {
         tilt,
         speed,

@@ -1,8 +1,8 @@
 //! The stability study's outputs: for each part, its CSV, its chart and its section of the
 //! Markdown report, from [`Results`].
 
-use crate::sim::params::Integrator;
-use crate::sim::water::{COURANT_LIMIT_4, COURANT_LIMIT_8};
+use stoneskip_physics::sim::params::Integrator;
+use stoneskip_physics::sim::water::{COURANT_LIMIT_4, COURANT_LIMIT_8};
 
 use super::{
     largest_stable, walled_prediction, Bounce, ContactSweep, Courant, FrictionRun, HeronRow,

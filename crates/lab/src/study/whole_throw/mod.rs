@@ -16,10 +16,12 @@
 
 pub mod report;
 
-use crate::sim::metrics::{throw_shape, ThrowShape};
-use crate::sim::params::{LagLength, MemoryParams, Preset, Rotation, MAX_WATER_COLUMNS};
-use crate::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
-use crate::sim::{simulate, Summary};
+use stoneskip_physics::sim::metrics::{throw_shape, ThrowShape};
+use stoneskip_physics::sim::params::{
+    LagLength, MemoryParams, Preset, Rotation, MAX_WATER_COLUMNS,
+};
+use stoneskip_physics::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::{simulate, Summary};
 
 use super::fidelity::common::par_map;
 use super::{check_cancel, Ctx, StudyError};
@@ -47,7 +49,7 @@ impl Model {
 
 fn parse(stem: &str, text: &str) -> Result<Preset, StudyError> {
     let path = format!("assets/presets/{stem}.ron");
-    crate::preset::parse(text, std::path::Path::new(&path))
+    stoneskip_physics::preset::parse(text, std::path::Path::new(&path))
         .map_err(|e| StudyError::Failed(e.to_string()))
 }
 
@@ -55,7 +57,7 @@ fn parse(stem: &str, text: &str) -> Result<Preset, StudyError> {
 pub fn preset(model: Model, stem: &str) -> Result<Preset, StudyError> {
     let list: &[(&str, &str)] = match model {
         Model::Before => &super::fidelity::common::SHIPPED,
-        Model::After => &crate::preset::SHIPPED,
+        Model::After => &stoneskip_physics::preset::SHIPPED,
     };
     let (_, text) = list
         .iter()

@@ -1,8 +1,8 @@
 //! The whole-throw study's CSVs and its report: the lead table (reference behaviour, before,
 //! after), then a section per measurement.
 
-use crate::sim::metrics::hovercraft;
-use crate::sim::params::LagLength;
+use stoneskip_physics::sim::metrics::hovercraft;
+use stoneskip_physics::sim::params::LagLength;
 
 use super::super::fidelity::common::{MAX_EARLIER_CONTACT, MAX_FINAL_SHARE};
 use super::super::plot::{self, Chart, Legend, Mark, Panel, RefLine, Series};

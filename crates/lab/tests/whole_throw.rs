@@ -9,11 +9,15 @@
 use std::path::Path;
 
 use glam::DVec3;
-use stoneskip::sim::params::{LagLength, MemoryParams, Preset, Quadrature};
-use stoneskip::sim::{simulate, Summary};
+use stoneskip_physics::sim::params::{LagLength, MemoryParams, Preset, Quadrature};
+use stoneskip_physics::sim::{simulate, Summary};
 
 fn load(stem: &str) -> Preset {
-    stoneskip::preset::load(Path::new(&format!("assets/presets/{stem}.ron"))).unwrap()
+    stoneskip_physics::preset::load(Path::new(&format!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/presets/{}.ron"),
+        stem
+    )))
+    .unwrap()
 }
 
 /// The shipped presets whose throws the issue checks.
@@ -131,13 +135,14 @@ fn neighbouring_launches_give_neighbouring_throws() {
 /// break one touch into several, those touches are one contact.
 #[test]
 fn a_skip_is_a_hop_you_can_see() {
-    let mut stems: Vec<String> = std::fs::read_dir("assets/presets")
-        .unwrap()
-        .map(|e| {
-            let path = e.unwrap().path();
-            path.file_stem().unwrap().to_string_lossy().to_string()
-        })
-        .collect();
+    let mut stems: Vec<String> =
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/presets"))
+            .unwrap()
+            .map(|e| {
+                let path = e.unwrap().path();
+                path.file_stem().unwrap().to_string_lossy().to_string()
+            })
+            .collect();
     stems.sort();
     for stem in &stems {
         let p = load(stem);
@@ -172,7 +177,7 @@ fn a_skip_is_a_hop_you_can_see() {
 /// The default pebble with its attitude held touching flat water almost tangentially
 /// (v_z = −0.1 m/s) at `speed`, its lowest point 0.5 mm above the water (the study's throw).
 fn tangential(speed: f64) -> Preset {
-    stoneskip::study::whole_throw::tangential_preset(speed).unwrap()
+    stoneskip_lab::study::whole_throw::tangential_preset(speed).unwrap()
 }
 
 /// Planing is unstable at speed and stable when slow (Hewitt et al. 2011): at 12 m/s the held

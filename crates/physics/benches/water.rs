@@ -21,8 +21,8 @@ use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use rayon::prelude::*;
-use stoneskip::sim::params::{Precision, WaterParams};
-use stoneskip::sim::water::{WaterConfig, WaterGrid};
+use stoneskip_physics::sim::params::{Precision, WaterParams};
+use stoneskip_physics::sim::water::{WaterConfig, WaterGrid};
 
 /// Triad arrays: 3 × 8 B × 2²⁴ = 384 MiB, far past the last-level cache.
 const TRIAD_N: usize = 1 << 24;

@@ -9,12 +9,12 @@
 
 use std::path::Path;
 
-use stoneskip::sim::params::{ForceLaw, Integrator, Limiter};
-use stoneskip::sim::water::COURANT_LIMIT_4;
-use stoneskip::study::accuracy::{self, Setting, REF_TICK, REF_TOLERANCE};
-use stoneskip::study::defaults::FRAME;
-use stoneskip::study::throws::STEEP;
-use stoneskip::study::{phase, run_study, stability};
+use stoneskip_lab::study::accuracy::{self, Setting, REF_TICK, REF_TOLERANCE};
+use stoneskip_lab::study::defaults::FRAME;
+use stoneskip_lab::study::throws::STEEP;
+use stoneskip_lab::study::{phase, run_study, stability};
+use stoneskip_physics::sim::params::{ForceLaw, Integrator, Limiter};
+use stoneskip_physics::sim::water::COURANT_LIMIT_4;
 
 fn setting(integrator: Integrator, dt: f64, tolerance: f64) -> Setting {
     Setting {

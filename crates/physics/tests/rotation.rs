@@ -13,11 +13,11 @@ use common::{
     spin_point, typical, CENTRES,
 };
 use glam::{DMat3, DQuat, DVec3};
-use stoneskip::sim::integrate::torque_free;
-use stoneskip::sim::params::{Integrator, Preset, Rotation, Shape, StoneParams};
-use stoneskip::sim::scenario::first_contact;
-use stoneskip::sim::stone::Stone;
-use stoneskip::sim::Simulation;
+use stoneskip_physics::sim::integrate::torque_free;
+use stoneskip_physics::sim::params::{Integrator, Preset, Rotation, Shape, StoneParams};
+use stoneskip_physics::sim::scenario::first_contact;
+use stoneskip_physics::sim::stone::Stone;
+use stoneskip_physics::sim::Simulation;
 
 /// Angle (degrees) between the stone's axis at the first contact's start and end.
 fn first_contact_axis_turn(p: &Preset) -> (bool, f64, [f64; 3], [f64; 3]) {
@@ -233,7 +233,7 @@ fn more_spin_never_fewer_skips() {
             let mut p = typical(Some(rev_s));
             p.launch.velocity = [vx, 0.0, vz];
             p.launch.attitude.tilt_deg = tilt;
-            let s = stoneskip::sim::simulate(&p).unwrap();
+            let s = stoneskip_physics::sim::simulate(&p).unwrap();
             let rebounds = s
                 .contacts
                 .iter()
@@ -314,7 +314,7 @@ fn banked_spinning_stone_curves() {
     p.water.enabled = false;
     p.physics.rotation = Rotation::Free;
     p.launch.attitude.bank_deg = 10.0;
-    let s = stoneskip::sim::simulate(&p).unwrap();
+    let s = stoneskip_physics::sim::simulate(&p).unwrap();
     let last = s.contacts.last().unwrap();
     eprintln!("bank 10°: lateral {:.3} m over {:.2} m", last.y, last.x);
     assert!(last.y.abs() > 0.05, "curves: y = {}", last.y);
@@ -330,8 +330,8 @@ fn locked_results_ignore_spin() {
     let mut b = a.clone();
     b.launch.spin = 400.0;
     b.launch.angular_velocity = [3.0, -2.0, 1.0];
-    let sa = stoneskip::sim::simulate(&a).unwrap();
-    let sb = stoneskip::sim::simulate(&b).unwrap();
+    let sa = stoneskip_physics::sim::simulate(&a).unwrap();
+    let sb = stoneskip_physics::sim::simulate(&b).unwrap();
     assert_eq!(sa, sb);
 }
 
@@ -342,8 +342,8 @@ fn locked_results_ignore_spin() {
 /// the first touch of the exact motion (found here by brute force on 200 000 samples of the tick).
 #[test]
 fn tumbling_stone_grazes_inside_a_tick() {
-    use stoneskip::sim::hydro::{lowest_clearance, FlatSurface};
-    use stoneskip::sim::integrate::flight;
+    use stoneskip_physics::sim::hydro::{lowest_clearance, FlatSurface};
+    use stoneskip_physics::sim::integrate::flight;
     let dt = 0.005;
     for integrator in [Integrator::Adaptive, Integrator::Rk4, Integrator::Paper] {
         let mut p = Preset::version_1();

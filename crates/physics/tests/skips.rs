@@ -1,4 +1,4 @@
-//! Skip counting (the rule in `stoneskip::sim::ContactEvent`): an episode that ends in the air is a
+//! Skip counting (the rule in `stoneskip_physics::sim::ContactEvent`): an episode that ends in the air is a
 //! skip only when the water turned the stone upward (v_out.z > v_in.z); a crest that brushes a
 //! stone gravity keeps decelerating is a graze, listed but not counted. Checked on a swell with wavy
 //! contact, where crests brush the rising stone; on flat water every exit stays a skip.
@@ -8,11 +8,15 @@
 
 use std::path::Path;
 
-use stoneskip::sim::params::{Preset, Swell};
-use stoneskip::sim::{ContactEvent, Simulation};
+use stoneskip_physics::sim::params::{Preset, Swell};
+use stoneskip_physics::sim::{ContactEvent, Simulation};
 
 fn shipped(stem: &str) -> Preset {
-    stoneskip::preset::load(Path::new(&format!("assets/presets/{stem}.ron"))).unwrap()
+    stoneskip_physics::preset::load(Path::new(&format!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/presets/{}.ron"),
+        stem
+    )))
+    .unwrap()
 }
 
 /// Runs to the end; returns the contacts and the hops: apexes of the centre's height in flight
@@ -71,7 +75,7 @@ fn swell_grazes_are_listed_but_not_counted() {
     // And the stone's numerics it was written with: the 64-segment mesh (on wavy water it carries
     // the load either way, but the smooth lens, shipped since issue 41, has the ellipsoid's inertia)
     // and the tolerance 1e-6; the wavy runs are chaotic, so they set which contacts the rule sees.
-    p.stone.quadrature = stoneskip::sim::params::Quadrature::Faces;
+    p.stone.quadrature = stoneskip_physics::sim::params::Quadrature::Faces;
     p.physics.tolerance = 1e-6;
     p.physics.steps_across_ticks = false;
     let g = p.physics.gravity;

@@ -1,11 +1,11 @@
-//! Validation of the 2D reference model (`stoneskip::reference`) against the analytic results and
+//! Validation of the 2D reference model (`stoneskip_reference`) against the analytic results and
 //! model reproductions of `shared/reference/physics.md` §6 (VC-1, VC-2, VC-4, VC-5, VC-7, VC-8, VC-11).
 //! Expected numbers and tolerances are the ones listed there.
 
 // Test code: a failed unwrap is the failure report (the libraries may not unwrap).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use stoneskip::reference::{
+use stoneskip_reference::{
     first_contact_skips, min_speed, simulate, ForceLaw, Integration, MinSpeedOptions, Outcome2d,
     Plate2d, State2d,
 };

@@ -15,8 +15,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use stoneskip::preset;
-use stoneskip::sim::params::{Preset, Shape};
+use stoneskip_physics::preset;
+use stoneskip_physics::sim::params::{Preset, Shape};
 
 /// Two presets whose texts differ in length and content, so any mix of them is detectable.
 fn presets() -> (Preset, Preset) {

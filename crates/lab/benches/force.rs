@@ -24,15 +24,15 @@ use std::time::Instant;
 
 use criterion::Criterion;
 use glam::{DQuat, DVec3};
-use stoneskip::sim::hydro::{
+use stoneskip_lab::study::throws;
+use stoneskip_physics::sim::hydro::{
     evaluate, evaluate_reference, lowest_clearance, lowest_clearance_reference,
     underside_submerged, underside_submerged_reference, FlatSurface, HydroParams, Pose, Scratch,
     Surface,
 };
-use stoneskip::sim::params::{Integrator, Physics, Preset, Quadrature, Shape, StoneParams};
-use stoneskip::sim::stone::Stone;
-use stoneskip::sim::{simulate, Summary};
-use stoneskip::study::throws;
+use stoneskip_physics::sim::params::{Integrator, Physics, Preset, Quadrature, Shape, StoneParams};
+use stoneskip_physics::sim::stone::Stone;
+use stoneskip_physics::sim::{simulate, Summary};
 
 const POSES: [&str; 4] = ["grazing", "mid", "deep", "free"];
 
@@ -56,8 +56,11 @@ impl Surface for Ripple {
 /// paper's defaults.
 fn params(name: &str) -> HydroParams {
     if name == WAVY {
-        let p = stoneskip::preset::load(std::path::Path::new("assets/presets/default.ron"))
-            .expect("shipped preset");
+        let p = stoneskip_physics::preset::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../assets/presets/default.ron"
+        )))
+        .expect("shipped preset");
         HydroParams::from_physics(&p.physics)
     } else {
         HydroParams::from_physics(&Physics::version_1())
@@ -212,14 +215,14 @@ fn throw_mode(spec: &str) {
             std::process::exit(2);
         }
     };
-    let mut p = stoneskip::preset::load(std::path::Path::new(path)).expect("preset");
+    let mut p = stoneskip_physics::preset::load(std::path::Path::new(path)).expect("preset");
     p.water.enabled = false;
     p.stone.segments = segments.parse().expect("segments");
     if let Some(tolerance) = parts.get(3) {
         p.physics.tolerance = tolerance.parse().expect("tolerance");
     }
     if parts.get(4) == Some(&"locked") {
-        p.physics.rotation = stoneskip::sim::params::Rotation::Locked;
+        p.physics.rotation = stoneskip_physics::sim::params::Rotation::Locked;
     }
     let (wall, s) = time_throw(&p, reps.parse().expect("reps"));
     println!(
@@ -234,8 +237,11 @@ fn throw_mode(spec: &str) {
 /// the accuracy study's throws.
 fn mesh_mode() {
     let mut cases: Vec<(String, Preset)> = Vec::new();
-    let mut default = stoneskip::preset::load(std::path::Path::new("assets/presets/default.ron"))
-        .expect("shipped preset");
+    let mut default = stoneskip_physics::preset::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/presets/default.ron"
+    )))
+    .expect("shipped preset");
     default.water.enabled = false;
     cases.push(("default".into(), default));
     let base = throws::base(Integrator::Adaptive, 0.005, 1e-6);

@@ -7,8 +7,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::DVec3;
-use stoneskip::sim::params::{Limiter, Precision, Swell, WaterParams};
-use stoneskip::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
+use stoneskip_physics::sim::params::{Limiter, Precision, Swell, WaterParams};
+use stoneskip_physics::sim::water::{WaterConfig, WaterGrid, COURANT_LIMIT_4, COURANT_LIMIT_8};
 
 const G: f64 = 9.81;
 
@@ -1099,7 +1099,7 @@ fn water_momentum(w: &WaterGrid) -> DVec3 {
 /// volume's rounding (ρgΔt_w·δV/l per step, δV ~ 1e-15·V: ≲ 1e-7 N·s) and the deposit: 1e-6.
 #[test]
 fn stone_and_water_exchange_equal_impulses() {
-    use stoneskip::sim::params::{Integrator, Preset};
+    use stoneskip_physics::sim::params::{Integrator, Preset};
     for integrator in Integrator::ALL {
         let mut p = Preset::version_1();
         p.water.enabled = true;
@@ -1112,7 +1112,7 @@ fn stone_and_water_exchange_equal_impulses() {
         } else {
             1e-5
         };
-        let mut sim = stoneskip::sim::Simulation::new(&p).unwrap();
+        let mut sim = stoneskip_physics::sim::Simulation::new(&p).unwrap();
         let m = sim.stone().mass;
         let g = p.physics.gravity;
         let (t0, v0) = (sim.time(), sim.state().velocity);
@@ -1187,9 +1187,9 @@ fn horizontal_impulse_becomes_pipe_momentum() {
 /// clock goes on from where it was.
 #[test]
 fn live_physics_changes_reach_the_water() {
-    use stoneskip::sim::params::Preset;
+    use stoneskip_physics::sim::params::Preset;
     let p = Preset::version_1();
-    let mut sim = stoneskip::sim::Simulation::new(&p).unwrap();
+    let mut sim = stoneskip_physics::sim::Simulation::new(&p).unwrap();
     for _ in 0..10 {
         sim.tick();
     }
@@ -1207,7 +1207,7 @@ fn live_physics_changes_reach_the_water() {
     );
     // The faster waves get a shorter step (the old one, at the 1/60 s cap, would now be unstable
     // with the diagonal pipes' limit of √3/2: r = 0.98).
-    let r = stoneskip::sim::water::COURANT_SAFETY * w.courant_limit();
+    let r = stoneskip_physics::sim::water::COURANT_SAFETY * w.courant_limit();
     assert!((w.courant() / r - 1.0).abs() < 1e-12, "r = {}", w.courant());
     assert_eq!(w.config().gravity, physics.gravity);
     assert_eq!(w.config().density, 1025.0);

@@ -1,7 +1,7 @@
 //! Charts the app soak's CSV (`STONESKIP_SOAK`, see `src/app/soak.rs`): resident memory and frame
 //! time against throw number, and checks the memory growth bound of docs/reliability.md.
 //!
-//! `cargo run --release --example soak_chart -- docs/reliability/soak.csv docs/reliability/soak.png`
+//! `cargo run --release -p stoneskip-lab --features charts --example soak_chart -- docs/reliability/soak.csv docs/reliability/soak.png`
 //!
 //! The bound: the presets come round in cycles of N throws (N shipped presets); the largest resident
 //! memory over the last whole cycle may exceed the largest over the cycle holding throw 50 by at
@@ -11,8 +11,8 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use anyhow::{anyhow, bail, Context as _, Result};
-use stoneskip::study::plot::{draw, Chart, Legend, Mark, Panel, RefLine, Series};
-use stoneskip::study::style::{colors, Rgb};
+use stoneskip_lab::study::plot::{draw, Chart, Legend, Mark, Panel, RefLine, Series};
+use stoneskip_lab::study::style::{colors, Rgb};
 
 /// Most growth of resident memory (MB) allowed from the cycle of throw 50 to the last cycle.
 const GROWTH_BOUND_MB: f64 = 32.0;

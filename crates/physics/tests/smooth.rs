@@ -9,21 +9,24 @@
 // Test code: a failed unwrap is the failure report (the libraries may not unwrap).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use stoneskip::sim::params::{Preset, Quadrature};
-use stoneskip::sim::Summary;
+use stoneskip_physics::sim::params::{Preset, Quadrature};
+use stoneskip_physics::sim::Summary;
 
 fn default_throw(segments: u32, quadrature: Quadrature) -> Summary {
-    let mut p: Preset =
-        stoneskip::preset::load(std::path::Path::new("assets/presets/default.ron")).unwrap();
+    let mut p: Preset = stoneskip_physics::preset::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/presets/default.ron"
+    )))
+    .unwrap();
     p.water.enabled = false;
     // The quasi-steady contact: the quadrature's convergence of the force, read off a throw whose
     // end is not a threshold (with the memory the throw's last slide starts at one skip or the
-    // next as the mesh passes 96 → 128 segments: 1 % of distance; tests/whole_throw.rs).
+    // next as the mesh passes 96 → 128 segments: 1 % of distance; crates/lab/tests/whole_throw.rs).
     p.physics.wetted_memory = None;
     p.stone.segments = segments;
     p.stone.bands = Some(segments / 2);
     p.stone.quadrature = quadrature;
-    stoneskip::sim::simulate(&p).unwrap()
+    stoneskip_physics::sim::simulate(&p).unwrap()
 }
 
 fn smooth(meridian: u32, around: u32) -> Quadrature {

@@ -5,7 +5,7 @@
 //! (`physics.steps_across_ticks`) (docs/studies/kernel.md, "What sets the glide's step"; session 20).
 //!
 //! ```text
-//! cargo run --release --example glide_steps -- 0.005 1e-6 [locked] [across] > steps.txt
+//! cargo run --release -p stoneskip-physics --example glide_steps -- 0.005 1e-6 [locked] [across] > steps.txt
 //! ```
 //!
 //! Prints the run's summary to standard error and one line a step to standard output.
@@ -14,8 +14,8 @@ use std::fmt::Write as _;
 
 use anyhow::Context;
 use glam::DVec3;
-use stoneskip::sim::params::Rotation;
-use stoneskip::sim::Simulation;
+use stoneskip_physics::sim::params::Rotation;
+use stoneskip_physics::sim::Simulation;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
@@ -27,9 +27,12 @@ fn main() -> anyhow::Result<()> {
     };
     let dt = number(1, 0.005)?;
     let tolerance = number(2, 1e-6)?;
-    let path = std::path::Path::new("assets/presets/default.ron");
+    let path = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/presets/default.ron"
+    ));
     let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
-    let mut preset = stoneskip::preset::parse(&text, path)?;
+    let mut preset = stoneskip_physics::preset::parse(&text, path)?;
     preset.water.enabled = false;
     preset.physics.dt = dt;
     preset.physics.tolerance = tolerance;

@@ -4,7 +4,7 @@
 //! docs/studies/retired.md.)
 //! A diagnosis, not a model: friction at C_f = 0 is not physical (issue 11, session 7's note).
 //!
-//! `cargo run --release --example spin_ablation` (about 4 minutes on two cores)
+//! `cargo run --release -p stoneskip-physics --example spin_ablation` (about 4 minutes on two cores)
 
 use std::f64::consts::TAU;
 use std::path::Path;
@@ -16,7 +16,10 @@ const REVS: [f64; 10] = [0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 40.0, 60.0, 80.0, 150
 const HEIGHTS: [f64; 5] = [0.0, -1e-3, -5e-4, 5e-4, 1e-3];
 
 fn main() -> Result<()> {
-    let p = stoneskip::preset::load(Path::new("assets/presets/default.ron"))?;
+    let p = stoneskip_physics::preset::load(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/presets/default.ron"
+    )))?;
     let variants: [(&str, Option<f64>); 2] = [("shipped", None), ("C_f = 0", Some(0.0))];
     let jobs: Vec<(usize, usize, f64)> = (0..variants.len())
         .flat_map(|v| (0..REVS.len()).flat_map(move |r| HEIGHTS.map(|dz| (v, r, dz))))
@@ -31,7 +34,7 @@ fn main() -> Result<()> {
             }
             q.launch.spin = REVS[r] * TAU;
             q.launch.position[2] += dz;
-            Ok((v, r, stoneskip::sim::simulate(&q)?.skips))
+            Ok((v, r, stoneskip_physics::sim::simulate(&q)?.skips))
         })
         .collect::<Result<Vec<_>>>()?;
     println!(

@@ -18,13 +18,13 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{DQuat, DVec3};
-use stoneskip::sim::hydro::{
+use stoneskip_physics::sim::hydro::{
     evaluate, evaluate_reference, lowest_clearance, lowest_clearance_reference,
     underside_submerged, underside_submerged_reference, FlatSurface, ForceSum, HydroParams, Pose,
     Scratch, Surface,
 };
-use stoneskip::sim::params::{ForceLaw, Shape, StoneParams};
-use stoneskip::sim::stone::Stone;
+use stoneskip_physics::sim::params::{ForceLaw, Shape, StoneParams};
+use stoneskip_physics::sim::stone::Stone;
 
 const TOL: f64 = 1e-12;
 

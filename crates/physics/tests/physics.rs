@@ -10,10 +10,10 @@ mod common;
 
 use common::{bocquet_plate as bocquet_plate_preset, clanet_disc, rel};
 use glam::DVec3;
-use stoneskip::reference::{self, Integration, Plate2d, State2d};
-use stoneskip::sim::params::{ForceLaw, Integrator, Preset};
-use stoneskip::sim::scenario::{at_impact, min_speed, IMPACT_CLEARANCE};
-use stoneskip::sim::{Outcome, Simulation};
+use stoneskip_physics::sim::params::{ForceLaw, Integrator, Preset};
+use stoneskip_physics::sim::scenario::{at_impact, min_speed, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::{Outcome, Simulation};
+use stoneskip_reference::{Integration, Plate2d, State2d};
 
 /// The 3D solver on a thin square plate with the Bocquet law reproduces the 2D model: the same
 /// skip count; distance, contact durations and exit velocities within 1 % (the bound). The
@@ -31,7 +31,7 @@ fn plate_converges_to_bocquet_2d() {
         assert_eq!(s3.outcome, Some(Outcome::Sank));
 
         let plate = Plate2d::bocquet_reference().with_ventilated(true);
-        let r2 = reference::simulate(
+        let r2 = stoneskip_reference::simulate(
             &plate,
             State2d::impact(speed, beta),
             &Integration::with_dt(2e-6),
@@ -103,10 +103,10 @@ fn plate_keeps_bocquet_invariant() {
         .contacts
         .iter()
         .filter(|c| c.skip)
-        .map(|c| reference::invariant(mu, 9.81, c.t_end, c.v_out[0], c.v_out[2]))
+        .map(|c| stoneskip_reference::invariant(mu, 9.81, c.t_end, c.v_out[0], c.v_out[2]))
         .collect();
     let first = s.contacts[0];
-    let i0 = reference::invariant(mu, 9.81, first.t_start, first.v_in[0], first.v_in[2]);
+    let i0 = stoneskip_reference::invariant(mu, 9.81, first.t_start, first.v_in[0], first.v_in[2]);
     for i in invariants {
         assert!(rel(i, i0) < 1e-4, "invariant {i} vs {i0}");
     }
@@ -239,9 +239,13 @@ fn energy_between_and_across_contacts() {
 /// The same preset gives bit-identical results.
 #[test]
 fn deterministic() {
-    let p = stoneskip::preset::load(std::path::Path::new("assets/presets/default.ron")).unwrap();
-    let a = stoneskip::sim::simulate(&p).unwrap();
-    let b = stoneskip::sim::simulate(&p).unwrap();
+    let p = stoneskip_physics::preset::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/presets/default.ron"
+    )))
+    .unwrap();
+    let a = stoneskip_physics::sim::simulate(&p).unwrap();
+    let b = stoneskip_physics::sim::simulate(&p).unwrap();
     assert_eq!(a, b);
     assert!(a.skips > 0);
 }
@@ -249,14 +253,17 @@ fn deterministic() {
 /// The lake fitted to the throw covers the whole track and is smaller than the default lake.
 #[test]
 fn water_fitted_to_the_throw_covers_it() {
-    let mut p =
-        stoneskip::preset::load(std::path::Path::new("assets/presets/magic_angle.ron")).unwrap();
+    let mut p = stoneskip_physics::preset::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/presets/magic_angle.ron"
+    )))
+    .unwrap();
     // A flat-contact throw: the water does not act on the stone (wavy contact off), on the
     // library's default lake (40 × 12 m), far larger than the throw needs.
     p.water.wavy_contact = false;
-    p.water.size = stoneskip::sim::params::WaterParams::version_1().size;
+    p.water.size = stoneskip_physics::sim::params::WaterParams::version_1().size;
     p.water.origin = None;
-    let fitted = stoneskip::sim::scenario::fit_water_to_throw(&p, 2.0).unwrap();
+    let fitted = stoneskip_physics::sim::scenario::fit_water_to_throw(&p, 2.0).unwrap();
     let area = |q: &Preset| q.water.size[0] * q.water.size[1];
     assert!(
         area(&fitted) < area(&p),
@@ -264,7 +271,7 @@ fn water_fitted_to_the_throw_covers_it() {
         fitted.water.size,
         p.water.size
     );
-    let s = stoneskip::sim::simulate(&fitted).unwrap();
+    let s = stoneskip_physics::sim::simulate(&fitted).unwrap();
     assert_eq!(
         s.outcome,
         Some(Outcome::Sank),
@@ -273,7 +280,7 @@ fn water_fitted_to_the_throw_covers_it() {
     let dry = {
         let mut d = p.clone();
         d.water.enabled = false;
-        stoneskip::sim::simulate(&d).unwrap()
+        stoneskip_physics::sim::simulate(&d).unwrap()
     };
     assert_eq!(
         s.skips, dry.skips,
@@ -287,7 +294,7 @@ fn water_fitted_to_the_throw_covers_it() {
 /// the step's start, one step late.)
 #[test]
 fn steps_report_the_forces_at_their_end() {
-    use stoneskip::sim::hydro::{evaluate, FlatSurface, HydroParams, Pose, Scratch};
+    use stoneskip_physics::sim::hydro::{evaluate, FlatSurface, HydroParams, Pose, Scratch};
     for integrator in Integrator::ALL {
         let mut p = Preset::version_1();
         p.water.enabled = false;
@@ -347,7 +354,7 @@ fn sink_point(integrator: Integrator, dt: f64, tolerance: f64) -> (f64, f64) {
     base.physics.dt = dt;
     base.physics.tolerance = tolerance;
     let p = at_impact(&base, 6.0, 50f64.to_radians(), 0.01).unwrap();
-    let s = stoneskip::sim::simulate(&p).unwrap();
+    let s = stoneskip_physics::sim::simulate(&p).unwrap();
     assert_eq!(s.outcome, Some(Outcome::Sank));
     assert_eq!(s.contacts.len(), 1);
     (s.final_time, s.distance)
@@ -381,10 +388,10 @@ fn sinking_instant_converges() {
 /// exact flight first meets the grid's surface (found here by brute force on 200 000 samples).
 #[test]
 fn low_flight_over_a_crest_touches_inside_a_tick() {
-    use stoneskip::sim::hydro::{lowest_clearance, Surface};
-    use stoneskip::sim::integrate::flight;
-    use stoneskip::sim::params::{Attitude, Rotation, Shape, StoneParams, Swell};
-    use stoneskip::sim::water::WaterGrid;
+    use stoneskip_physics::sim::hydro::{lowest_clearance, Surface};
+    use stoneskip_physics::sim::integrate::flight;
+    use stoneskip_physics::sim::params::{Attitude, Rotation, Shape, StoneParams, Swell};
+    use stoneskip_physics::sim::water::WaterGrid;
     struct Grid<'a>(&'a WaterGrid);
     impl Surface for Grid<'_> {
         fn height(&self, x: f64, y: f64) -> f64 {

@@ -7,11 +7,11 @@
 #![allow(clippy::field_reassign_with_default)]
 
 use proptest::prelude::*;
-use stoneskip::sim::params::{
+use stoneskip_physics::sim::params::{
     Attitude, AxialSpin, ForceLaw, Integrator, LagLength, Limiter, MemoryParams, Precision, Preset,
     Quadrature, Rotation, Shape, StoneParams,
 };
-use stoneskip::sim::{Simulation, Summary};
+use stoneskip_physics::sim::{Simulation, Summary};
 
 fn finite_summary(s: &Summary) {
     assert!(s.outcome.is_some(), "every run ends with an outcome");
@@ -47,7 +47,7 @@ fn a_touch_at_launch_ends_no_earlier_than_it_starts() {
                 friction_coefficient: 0.0, ventilated: false, integrator: Rk4, rotation: Free, \
                 axial_spin: Faceted, dt: 0.004883858815194481, max_time: 1.5), water: (enabled: \
                 false, size: (6.0, 3.0), origin: (-3.0, -1.5), cell: 0.1))";
-    let p = stoneskip::preset::parse(text, std::path::Path::new("found.ron")).unwrap();
+    let p = stoneskip_physics::preset::parse(text, std::path::Path::new("found.ron")).unwrap();
     let s = run(&p);
     assert!(!s.contacts.is_empty());
     finite_summary(&s);

@@ -13,12 +13,15 @@ use std::path::Path;
 use std::time::Instant;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use stoneskip::sim::params::{Preset, Quadrature};
-use stoneskip::sim::simulate;
+use stoneskip_physics::sim::params::{Preset, Quadrature};
+use stoneskip_physics::sim::simulate;
 
 fn preset(name: &str) -> Preset {
-    let mut p = stoneskip::preset::load(Path::new(&format!("assets/presets/{name}.ron")))
-        .expect("shipped preset");
+    let mut p = stoneskip_physics::preset::load(Path::new(&format!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/presets/{}.ron"),
+        name
+    )))
+    .expect("shipped preset");
     p.water.enabled = false;
     p
 }

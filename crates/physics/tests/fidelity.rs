@@ -8,12 +8,16 @@
 use std::path::Path;
 
 use glam::DVec3;
-use stoneskip::sim::metrics::{hovercraft, throw_shape, ThrowShape};
-use stoneskip::sim::params::{ForceLaw, Integrator, Preset, PressureSign, Rotation};
-use stoneskip::sim::{simulate, Summary};
+use stoneskip_physics::sim::metrics::{hovercraft, throw_shape, ThrowShape};
+use stoneskip_physics::sim::params::{ForceLaw, Integrator, Preset, PressureSign, Rotation};
+use stoneskip_physics::sim::{simulate, Summary};
 
 fn load(stem: &str) -> Preset {
-    stoneskip::preset::load(Path::new(&format!("assets/presets/{stem}.ron"))).unwrap()
+    stoneskip_physics::preset::load(Path::new(&format!(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/presets/{}.ron"),
+        stem
+    )))
+    .unwrap()
 }
 
 fn shape(p: &Preset) -> (Summary, ThrowShape) {
@@ -109,7 +113,9 @@ fn paper_preset_does_not_speed_up() {
 /// the record-class check below.
 #[test]
 fn shipped_presets_do_not_hovercraft() {
-    for entry in std::fs::read_dir("assets/presets").unwrap() {
+    for entry in
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/presets")).unwrap()
+    {
         let path = entry.unwrap().path();
         let stem = path.file_stem().unwrap().to_string_lossy().to_string();
         if stem == "paper" || stem == "bocquet_plate" || stem == "record_throw" {

@@ -6,17 +6,17 @@
 #![allow(dead_code, unused_imports, clippy::field_reassign_with_default)]
 
 use rayon::prelude::*;
-use stoneskip::reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
-use stoneskip::sim::params::{
+use stoneskip_physics::sim::params::{
     Attitude, ForceLaw, Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams,
 };
-use stoneskip::sim::scenario::{at_impact, IMPACT_CLEARANCE};
-use stoneskip::sim::{SimError, Simulation};
+use stoneskip_physics::sim::scenario::{at_impact, IMPACT_CLEARANCE};
+use stoneskip_physics::sim::{SimError, Simulation};
+use stoneskip_reference::{CLANET_MASS, CLANET_RADIUS, CLANET_THICKNESS};
 
 /// One revolution (rad).
-pub use stoneskip::sim::metrics::fit_exponent;
-pub use stoneskip::sim::scenario::typical;
-pub use stoneskip::sim::stone::{axis_from_reported as axis, inclination};
+pub use stoneskip_physics::sim::metrics::fit_exponent;
+pub use stoneskip_physics::sim::scenario::typical;
+pub use stoneskip_physics::sim::stone::{axis_from_reported as axis, inclination};
 
 pub const REV: f64 = std::f64::consts::TAU;
 
@@ -193,7 +193,7 @@ pub fn spin_counts(spins: &[f64]) -> Result<Vec<CountPoint>, SimError> {
     runs.push(None);
     runs.par_iter()
         .map(|&rev_s| {
-            let s = stoneskip::sim::simulate(&typical(rev_s))?;
+            let s = stoneskip_physics::sim::simulate(&typical(rev_s))?;
             Ok(CountPoint {
                 rev_s,
                 skips: s.skips,

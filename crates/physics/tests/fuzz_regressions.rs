@@ -9,21 +9,21 @@
 
 use std::path::Path;
 
-use stoneskip::sim::params::{Limiter, Precision};
-use stoneskip::sim::water::{WaterConfig, WaterGrid};
+use stoneskip_physics::sim::params::{Limiter, Precision};
+use stoneskip_physics::sim::water::{WaterConfig, WaterGrid};
 
-#[path = "../fuzz/harness/preset_load.rs"]
+#[path = "../../../fuzz/harness/preset_load.rs"]
 mod preset_load;
-#[path = "../fuzz/harness/simulate.rs"]
+#[path = "../../../fuzz/harness/simulate.rs"]
 mod simulate;
-#[path = "../fuzz/harness/water.rs"]
+#[path = "../../../fuzz/harness/water.rs"]
 mod water;
 
 /// Runs `run` on every file of `fuzz/DIR/TARGET`, at most `limit` of them (sorted by name); returns
 /// how many ran.
 fn replay(dir: &str, target: &str, limit: usize, run: fn(&[u8])) -> usize {
     let d = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fuzz")
+        .join("../../fuzz")
         .join(dir)
         .join(target);
     let Ok(rd) = std::fs::read_dir(&d) else {

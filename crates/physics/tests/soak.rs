@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use arbitrary::Unstructured;
 
-#[path = "../fuzz/harness/simulate.rs"]
+#[path = "../../../fuzz/harness/simulate.rs"]
 #[allow(dead_code)]
 mod simulate;
 
@@ -124,12 +124,15 @@ fn soak_input_300536_ends_diverged_with_a_finite_energy() {
     assert!(simulated(&data));
     simulate::run(&data);
     let p = simulate::preset(&mut Unstructured::new(&data)).unwrap();
-    let mut sim = stoneskip::sim::Simulation::new(&p).unwrap();
+    let mut sim = stoneskip_physics::sim::Simulation::new(&p).unwrap();
     while !sim.is_finished() {
         sim.tick();
         assert!(sim.energy().is_finite(), "t = {}", sim.time());
     }
-    assert_eq!(sim.outcome(), Some(stoneskip::sim::Outcome::Diverged));
+    assert_eq!(
+        sim.outcome(),
+        Some(stoneskip_physics::sim::Outcome::Diverged)
+    );
     let why = sim.diverged_reason().unwrap_or("");
     assert!(why.contains("SymplecticEuler"), "{why}");
 }
