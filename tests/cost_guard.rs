@@ -13,8 +13,7 @@ use std::time::Duration;
 use stoneskip::app::model::{FrameBudget, Pace, PACE_WINDOW};
 use stoneskip::app::Model;
 use stoneskip::sim::params::{
-    Attitude, ForceLaw, Integrator, Limiter, Precision, Preset, PressureCentre, Rotation, Shape,
-    Swell,
+    Attitude, ForceLaw, Integrator, Limiter, Precision, Preset, Rotation, Shape, Swell,
 };
 use stoneskip::sim::{simulate, ContactEvent, Simulation, StepSample, Summary, TickProgress};
 
@@ -212,7 +211,6 @@ fn s1b() -> Preset {
     ph.integrator = Integrator::Adaptive;
     ph.tolerance = 7.423148141583322e-7;
     ph.rotation = Rotation::Free;
-    ph.pressure_centre = PressureCentre::Faces;
     ph.dt = 0.0013732705833386402;
     ph.max_time = 0.14270588235294118;
     let w = &mut p.water;
@@ -497,7 +495,6 @@ fn s1() -> Preset {
     ph.integrator = Integrator::Adaptive;
     ph.tolerance = 3.522914625643156e-10;
     ph.rotation = Rotation::Free;
-    ph.pressure_centre = PressureCentre::Faces;
     ph.dt = 5.000000000000004e-5;
     ph.max_time = 0.01;
     p.water.enabled = false;

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use arbitrary::{Result, Unstructured};
 use stoneskip_physics::sim::params::{
     AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, Limiter, Precision, Preset,
-    PressureCentre, PressureSign, Quadrature, Rotation, Shape, Swell,
+    PressureSign, Quadrature, Rotation, Shape, Swell,
 };
 use stoneskip_physics::sim::Simulation;
 
@@ -100,7 +100,6 @@ fn physics(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
     if !u.arbitrary::<bool>()? {
         num(u, 0.0, 1.0)?;
     }
-    ph.pressure_centre = PressureCentre::Faces;
     ph.dt = log_num(u, 5e-5, 0.02)?;
     ph.max_time = num(u, 0.01, 0.25)?;
     Ok(())
@@ -206,9 +205,6 @@ fn quadrature(u: &mut Unstructured, p: &mut Preset) -> Result<()> {
         p.water.wavy_contact = false;
         if p.physics.rotation == Rotation::Free {
             p.physics.axial_spin = AxialSpin::Resal;
-        }
-        if p.physics.pressure_centre != PressureCentre::Faces {
-            p.physics.pressure_centre = PressureCentre::Faces;
         }
     }
     Ok(())

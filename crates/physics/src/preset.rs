@@ -520,18 +520,19 @@ mod tests {
         assert!(e.contains("expected a positive number"), "{e}");
     }
 
-    /// The water's precision parses and round-trips; `pressure_centre: Faces` (which every saved
-    /// preset names) still parses.
+    /// The water's precision parses and round-trips; `pressure_centre: Faces` and `near_field:
+    /// Columns` (which every preset saved before they were folded away names) still parse, mean
+    /// what leaving them out means, and are not written back.
     #[test]
     fn pressure_centre_and_precision_parse() {
-        let text = "(\n  physics: (rotation: Free, pressure_centre: Faces),\n  water: (precision: F64),\n)";
+        let text = "(\n  physics: (rotation: Free, pressure_centre: Faces),\n  water: (precision: F64, near_field: Columns),\n)";
         let p = parse(text, Path::new("ok.ron")).unwrap();
-        assert_eq!(
-            p.physics.pressure_centre,
-            crate::sim::params::PressureCentre::Faces
-        );
+        let without = "(\n  physics: (rotation: Free),\n  water: (precision: F64),\n)";
+        assert_eq!(p, parse(without, Path::new("ok.ron")).unwrap());
         assert_eq!(p.water.precision, crate::sim::params::Precision::F64);
-        let back = parse(&to_ron_string(&p).unwrap(), Path::new("rt.ron")).unwrap();
+        let written = to_ron_string(&p).unwrap();
+        assert!(!written.contains("pressure_centre") && !written.contains("near_field"));
+        let back = parse(&written, Path::new("rt.ron")).unwrap();
         assert_eq!(back, p);
     }
 
@@ -544,7 +545,7 @@ mod tests {
                 "(\n  name: \"old\",\n  physics: (\n    pressure_centre: Planing(0.75),\n  ),\n)",
                 "physics.pressure_centre",
                 "Planing",
-                "write Faces",
+                "leave the field out",
             ),
             (
                 "(\n  name: \"old\",\n  physics: (\n    axial_spin: Smooth,\n  ),\n)",
@@ -556,7 +557,7 @@ mod tests {
                 "(\n  name: \"old\",\n  water: (\n    near_field: Spectral,\n  ),\n)",
                 "water.near_field",
                 "Spectral",
-                "write Columns",
+                "leave the field out",
             ),
         ] {
             let e = parse(text, Path::new("old.ron")).unwrap_err().to_string();

@@ -10,7 +10,7 @@ mod common;
 
 use common::{
     clanet_at_impact, clanet_free as clanet, fit_exponent, logspace, spin_counts, spin_limited,
-    spin_point, typical, CENTRES,
+    spin_point, typical,
 };
 use glam::{DMat3, DQuat, DVec3};
 use stoneskip_physics::sim::integrate::torque_free;
@@ -289,21 +289,13 @@ fn spin_limited_count_grows_linearly_not_quadratically() {
 /// torque pitches the stone over.
 #[test]
 fn vc12_inclination_nearly_unchanged_at_65_rev_s() {
-    for centre in CENTRES {
-        let p = spin_point(20.0, 65.0, centre).unwrap();
-        eprintln!("{centre:?}: {p:?}");
-        assert!(p.first_skip, "{centre:?}: skips");
-        assert!(p.inclination_change.abs() < 3.0, "{centre:?}: {p:?}");
-        assert!(
-            p.axis_turn > 2.0 * p.inclination_change.abs(),
-            "{centre:?}: {p:?}"
-        );
-        let still = spin_point(20.0, 0.0, centre).unwrap();
-        assert!(
-            still.inclination_change < -10.0,
-            "{centre:?} without spin: {still:?}"
-        );
-    }
+    let p = spin_point(20.0, 65.0).unwrap();
+    eprintln!("{p:?}");
+    assert!(p.first_skip, "skips");
+    assert!(p.inclination_change.abs() < 3.0, "{p:?}");
+    assert!(p.axis_turn > 2.0 * p.inclination_change.abs(), "{p:?}");
+    let still = spin_point(20.0, 0.0).unwrap();
+    assert!(still.inclination_change < -10.0, "without spin: {still:?}");
 }
 
 /// A banked, spinning stone curves sideways (the lift leans with the stone); with the attitude

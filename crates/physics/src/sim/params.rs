@@ -377,38 +377,25 @@ pub enum Rotation {
     Free,
 }
 
-/// Where the pressure of a contact acts along the flow (physics.md §7.3). Only the torque depends on it,
-/// so it matters under `rotation: Free` alone.
-/// Where the pressure acts (torque only). The planing centre (`Planing(f)`, Savitsky 1964) is
-/// retired: docs/studies/retired.md.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(try_from = "PressureCentreName")]
-pub enum PressureCentre {
-    /// Each wetted face's pressure at that face's wetted centroid (the paper's eqs. 25–26): uniform
-    /// pressure puts the load at the area centroid.
-    Faces,
-}
-
-/// Every value `physics.pressure_centre` ever took, the retired one included.
+/// Every value `physics.pressure_centre` ever took. The field is folded away: each wetted face's
+/// pressure acts at that face's wetted centroid (the paper's eqs. 25–26), the only model left, so
+/// `Faces`, which every preset saved before wrote, is read and ignored; Savitsky's planing centre
+/// (`Planing(f)`) is retired (docs/studies/retired.md).
 #[derive(Deserialize)]
 enum PressureCentreName {
     Faces,
     Planing(#[allow(dead_code)] f64),
 }
 
-impl TryFrom<PressureCentreName> for PressureCentre {
-    type Error = Retired;
-    fn try_from(name: PressureCentreName) -> Result<Self, Retired> {
-        match name {
-            PressureCentreName::Faces => Ok(Self::Faces),
-            PressureCentreName::Planing(_) => Err(Retired {
-                field: "physics.pressure_centre",
-                value: "Planing",
-                why:
-                    "Savitsky's planing centre moved the skip count by at most one and no shipped \
-                      preset used it; write Faces",
-            }),
-        }
+fn read_pressure_centre<'de, D: Deserializer<'de>>(d: D) -> Result<RetiredSettings, D::Error> {
+    match PressureCentreName::deserialize(d)? {
+        PressureCentreName::Faces => Ok(RetiredSettings),
+        PressureCentreName::Planing(_) => Err(serde::de::Error::custom(Retired {
+            field: "physics.pressure_centre",
+            value: "Planing",
+            why: "Savitsky's planing centre moved the skip count by at most one and no shipped \
+                  preset used it; leave the field out (each face's pressure acts at its wetted centroid)",
+        })),
     }
 }
 
@@ -542,8 +529,15 @@ pub struct Physics {
     pub tolerance: f64,
     /// Whether the attitude is held (the paper) or free.
     pub rotation: Rotation,
-    /// Where the pressure acts along the flow (torque only).
-    pub pressure_centre: PressureCentre,
+    /// `pressure_centre: Faces`, which presets saved before the field was folded away write: read
+    /// and ignored, never written (`Planing` fails as retired).
+    #[serde(
+        default,
+        rename = "pressure_centre",
+        skip_serializing,
+        deserialize_with = "read_pressure_centre"
+    )]
+    pub retired_pressure_centre: RetiredSettings,
     /// How a receding wetted face is loaded when not ventilated.
     pub pressure_sign: PressureSign,
     /// Whether the axial spin of a body of revolution is felt as normal velocity by its facets.
@@ -659,7 +653,7 @@ impl Physics {
             integrator: Integrator::Adaptive,
             tolerance: 1e-6,
             rotation: Rotation::Locked,
-            pressure_centre: PressureCentre::Faces,
+            retired_pressure_centre: RetiredSettings,
             pressure_sign: PressureSign::AsPrinted,
             axial_spin: AxialSpin::Faceted,
             buoyancy: false,
@@ -761,9 +755,15 @@ pub struct WaterParams {
     pub precision: Precision,
     /// A swell the water starts with; `None`: still water.
     pub swell: Option<Swell>,
-    /// What the stone touches with wavy contact: the columns (the only value since the spectral
-    /// near field was retired; docs/studies/retired.md).
-    pub near_field: NearField,
+    /// `near_field: Columns`, which presets saved before the field was folded away write: read and
+    /// ignored, never written (`Spectral` fails as retired).
+    #[serde(
+        default,
+        rename = "near_field",
+        skip_serializing,
+        deserialize_with = "read_near_field"
+    )]
+    pub retired_near_field: RetiredSettings,
     /// The retired spectral near field's settings, which every preset saved before issue 40 wrote
     /// out (`spectral: (cells: 128, …)`): read and ignored, never written.
     #[serde(
@@ -786,34 +786,25 @@ pub struct WaterParams {
     pub max_step: Option<f64>,
 }
 
-/// The surface the stone touches with wavy contact.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
-#[serde(try_from = "NearFieldName")]
-pub enum NearField {
-    /// The lake's columns (shallow-water waves at every wavelength).
-    #[default]
-    Columns,
-}
-
-/// Every value `water.near_field` ever took, the retired one included.
+/// Every value `water.near_field` ever took. The field is folded away: with wavy contact the
+/// stone touches the lake's columns, the only surface left, so `Columns`, which every preset saved
+/// before wrote, is read and ignored; the spectral near field is retired.
 #[derive(Deserialize)]
 enum NearFieldName {
     Columns,
     Spectral,
 }
 
-impl TryFrom<NearFieldName> for NearField {
-    type Error = Retired;
-    fn try_from(name: NearFieldName) -> Result<Self, Retired> {
-        match name {
-            NearFieldName::Columns => Ok(Self::Columns),
-            NearFieldName::Spectral => Err(Retired {
-                field: "water.near_field",
-                value: "Spectral",
-                why: "the stone reads only the ambient water since the wetted-extent memory \
-                      (issue 38), so no shipped preset touched a near field; write Columns",
-            }),
-        }
+fn read_near_field<'de, D: Deserializer<'de>>(d: D) -> Result<RetiredSettings, D::Error> {
+    match NearFieldName::deserialize(d)? {
+        NearFieldName::Columns => Ok(RetiredSettings),
+        NearFieldName::Spectral => Err(serde::de::Error::custom(Retired {
+            field: "water.near_field",
+            value: "Spectral",
+            why: "the stone reads only the ambient water since the wetted-extent memory, so no \
+                  shipped preset touched a near field; leave the field out (with wavy contact the stone \
+                  touches the columns)",
+        })),
     }
 }
 
@@ -845,7 +836,7 @@ impl WaterParams {
             limiter: Limiter::MassConserving,
             precision: Precision::F32,
             swell: None,
-            near_field: NearField::Columns,
+            retired_near_field: RetiredSettings,
             retired_spectral: RetiredSettings,
             max_step: None,
         }

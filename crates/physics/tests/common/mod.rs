@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 use stoneskip_physics::sim::params::{
-    Attitude, ForceLaw, Integrator, Preset, PressureCentre, Rotation, Shape, StoneParams,
+    Attitude, ForceLaw, Integrator, Preset, Rotation, Shape, StoneParams,
 };
 use stoneskip_physics::sim::scenario::{at_impact, IMPACT_CLEARANCE};
 use stoneskip_physics::sim::{SimError, Simulation};
@@ -119,20 +119,14 @@ pub fn clanet_at_impact(tilt_deg: f64, spin_rev_s: f64) -> Preset {
     .unwrap()
 }
 
-/// The centre-of-pressure models of the spin tests (the planing centre is retired:
-/// docs/studies/retired.md).
-pub const CENTRES: [PressureCentre; 1] = [PressureCentre::Faces];
-
-/// Clanet's spun disc at impact with a centre-of-pressure model, default coefficients, Adaptive,
-/// capped at 5 s.
-pub fn clanet_spun(tilt_deg: f64, rev_s: f64, centre: PressureCentre) -> Result<Preset, SimError> {
+/// Clanet's spun disc at impact, default coefficients, Adaptive, capped at 5 s.
+pub fn clanet_spun(tilt_deg: f64, rev_s: f64) -> Result<Preset, SimError> {
     let mut p = clanet_free(tilt_deg, rev_s);
     p.name = "Clanet disc".into();
     p.physics.lift_coefficient = None;
     p.physics.friction_coefficient = None;
     p.physics.integrator = Integrator::Adaptive;
     p.physics.max_time = 5.0;
-    p.physics.pressure_centre = centre;
     at_impact(
         &p,
         CLANET_SPEED,
@@ -156,8 +150,8 @@ pub struct SpinPoint {
 }
 
 /// Runs one spun throw of Clanet's disc to its end (or [`EVAL_CAP`] force evaluations).
-pub fn spin_point(tilt: f64, rev_s: f64, centre: PressureCentre) -> Result<SpinPoint, SimError> {
-    let p = clanet_spun(tilt, rev_s, centre)?;
+pub fn spin_point(tilt: f64, rev_s: f64) -> Result<SpinPoint, SimError> {
+    let p = clanet_spun(tilt, rev_s)?;
     let mut sim = Simulation::new(&p)?;
     while !sim.is_finished() && sim.cost().1 < EVAL_CAP {
         sim.tick();

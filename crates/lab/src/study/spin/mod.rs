@@ -18,7 +18,7 @@
 
 use rayon::prelude::*;
 
-use stoneskip_physics::sim::params::{ForceLaw, Preset, PressureCentre, Rotation};
+use stoneskip_physics::sim::params::{ForceLaw, Preset, Rotation};
 use stoneskip_physics::sim::scenario::{at_impact, IMPACT_CLEARANCE};
 use stoneskip_physics::sim::Simulation;
 
@@ -42,20 +42,11 @@ pub const VC12_SPIN_REV_S: f64 = 65.0;
 /// VC-13's tilt, at which the spin threshold is located precisely.
 pub const VC13_TILT_DEG: f64 = 35.0;
 
-/// The centre-of-pressure models compared (the planing centre is retired: docs/studies/retired.md).
-pub const CENTRES: [PressureCentre; 1] = [PressureCentre::Faces];
-
-pub fn centre_name(c: PressureCentre) -> String {
-    match c {
-        PressureCentre::Faces => "faces (area centroids)".into(),
-    }
-}
-
-pub fn centre_key(c: PressureCentre) -> &'static str {
-    match c {
-        PressureCentre::Faces => "faces",
-    }
-}
+/// Where the pressure acts, as the tables and charts name it: at each wetted face's centroid (the
+/// only model since the planing centre was retired: docs/studies/retired.md).
+pub const CENTRE_NAME: &str = "faces (area centroids)";
+/// [`CENTRE_NAME`] in the CSVs' `centre` column.
+pub const CENTRE_KEY: &str = "faces";
 
 /// Grids of the spin study.
 #[derive(Debug, Clone)]
@@ -85,10 +76,9 @@ pub fn grid(quick: bool) -> SpinGrid {
 }
 
 /// Clanet's disc at impact (U = 3.5 m/s, β = 20°), free rotation, `rev_s` about its axis.
-pub fn clanet_spun(tilt: f64, rev_s: f64, centre: PressureCentre) -> Result<Preset, StudyError> {
+pub fn clanet_spun(tilt: f64, rev_s: f64) -> Result<Preset, StudyError> {
     let mut p = clanet_disc(ForceLaw::Rosellini, tilt);
     p.physics.rotation = Rotation::Free;
-    p.physics.pressure_centre = centre;
     p.launch.spin = rev_s * REV;
     Ok(at_impact(
         &p,
@@ -115,8 +105,8 @@ pub struct SpinPoint {
 }
 
 /// Runs one throw to its end (or [`EVAL_CAP`] force evaluations).
-pub fn spin_point(tilt: f64, rev_s: f64, centre: PressureCentre) -> Result<SpinPoint, StudyError> {
-    let p = clanet_spun(tilt, rev_s, centre)?;
+pub fn spin_point(tilt: f64, rev_s: f64) -> Result<SpinPoint, StudyError> {
+    let p = clanet_spun(tilt, rev_s)?;
     let mut sim = Simulation::new(&p)?;
     while !sim.is_finished() && sim.cost().1 < EVAL_CAP {
         sim.tick();
@@ -141,7 +131,7 @@ pub fn spin_point(tilt: f64, rev_s: f64, centre: PressureCentre) -> Result<SpinP
 }
 
 /// The spin × tilt map, in grid order (tilt-major).
-pub fn spin_map(centre: PressureCentre, g: &SpinGrid) -> Result<Vec<SpinPoint>, StudyError> {
+pub fn spin_map(g: &SpinGrid) -> Result<Vec<SpinPoint>, StudyError> {
     let throws: Vec<(f64, f64)> = g
         .tilts
         .iter()
@@ -151,21 +141,16 @@ pub fn spin_map(centre: PressureCentre, g: &SpinGrid) -> Result<Vec<SpinPoint>, 
         .par_iter()
         .map(|&(t, s)| {
             check_cancel()?;
-            spin_point(t, s, centre)
+            spin_point(t, s)
         })
         .collect()
 }
 
 /// Smallest spin (rev/s) in [0, `hi`] whose first contact skips at `tilt`, by bisection to `tol`
 /// rev/s, with that contact's duration (s). `None` when `hi` does not skip.
-pub fn spin_threshold(
-    tilt: f64,
-    centre: PressureCentre,
-    hi: f64,
-    tol: f64,
-) -> Result<Option<(f64, f64)>, StudyError> {
+pub fn spin_threshold(tilt: f64, hi: f64, tol: f64) -> Result<Option<(f64, f64)>, StudyError> {
     let first = |s: f64| -> Result<(bool, f64), StudyError> {
-        let p = clanet_spun(tilt, s, centre)?;
+        let p = clanet_spun(tilt, s)?;
         let c = stoneskip_physics::sim::scenario::first_contact(&p)?;
         Ok(c.map_or((false, 0.0), |c| (c.skipped, c.duration)))
     };
@@ -249,10 +234,9 @@ pub fn spin_limited(points: &[CountPoint]) -> (Vec<(f64, f64)>, Vec<(f64, f64)>)
         .unzip()
 }
 
-/// Everything per centre-of-pressure model.
+/// Everything the spin part measures.
 #[derive(Debug, Clone)]
 pub struct CentreResult {
-    pub centre: PressureCentre,
     pub map: Vec<SpinPoint>,
     /// Spin threshold at VC-13's tilt: (rev/s, first-contact duration s).
     pub threshold: Option<(f64, f64)>,
@@ -265,35 +249,22 @@ pub struct CentreResult {
 /// appends.
 pub fn run(ctx: &Ctx) -> Result<String, StudyError> {
     let g = grid(ctx.quick);
-    let mut results = Vec::new();
-    for centre in CENTRES {
-        ctx.progress(&format!(
-            "spin, {}: spin × tilt map ({} runs)",
-            centre_name(centre),
-            g.tilts.len() * g.spins.len()
-        ));
-        let map = spin_map(centre, &g)?;
-        ctx.progress(&format!(
-            "spin, {}: threshold, VC-12, spin-limited count",
-            centre_name(centre)
-        ));
-        let threshold = spin_threshold(
-            VC13_TILT_DEG,
-            centre,
-            100.0,
-            if ctx.quick { 2.0 } else { 0.25 },
-        )?;
-        let vc12 = spin_point(VC12_TILT_DEG, VC12_SPIN_REV_S, centre)?;
-        let vc12_no_spin = spin_point(VC12_TILT_DEG, 0.0, centre)?;
-        let counts = spin_counts(&g.curve_spins)?;
-        results.push(CentreResult {
-            centre,
-            map,
-            threshold,
-            vc12,
-            vc12_no_spin,
-            counts,
-        });
-    }
+    ctx.progress(&format!(
+        "spin: spin × tilt map ({} runs)",
+        g.tilts.len() * g.spins.len()
+    ));
+    let map = spin_map(&g)?;
+    ctx.progress("spin: threshold, VC-12, spin-limited count");
+    let threshold = spin_threshold(VC13_TILT_DEG, 100.0, if ctx.quick { 2.0 } else { 0.25 })?;
+    let vc12 = spin_point(VC12_TILT_DEG, VC12_SPIN_REV_S)?;
+    let vc12_no_spin = spin_point(VC12_TILT_DEG, 0.0)?;
+    let counts = spin_counts(&g.curve_spins)?;
+    let results = [CentreResult {
+        map,
+        threshold,
+        vc12,
+        vc12_no_spin,
+        counts,
+    }];
     report::write(ctx, &g, &results)
 }

@@ -2,8 +2,8 @@
 //! the Markdown section the phase report appends.
 
 use super::{
-    centre_key, centre_name, fit_exponent, spin_limited, CentreResult, CountPoint, SpinGrid,
-    SpinPoint, MAP_BETA_DEG, MAP_SPEED, REV, TYPICAL_RADIUS,
+    fit_exponent, spin_limited, CentreResult, CountPoint, SpinGrid, SpinPoint, CENTRE_KEY,
+    CENTRE_NAME, MAP_BETA_DEG, MAP_SPEED, REV, TYPICAL_RADIUS,
 };
 use crate::study::plot::{
     self, half_steps, Cell, Chart, Heatmap, Legend, Mark, Panel, RefLine, Series,
@@ -44,7 +44,7 @@ fn write_csvs(ctx: &Ctx, results: &[CentreResult]) -> Result<(), StudyError> {
     for r in results {
         for p in &r.map {
             csv.push(vec![
-                centre_key(r.centre).into(),
+                CENTRE_KEY.into(),
                 p.tilt.into(),
                 p.rev_s.into(),
                 p.skips.into(),
@@ -68,7 +68,7 @@ fn write_csvs(ctx: &Ctx, results: &[CentreResult]) -> Result<(), StudyError> {
     for r in results {
         for p in &r.counts {
             ccsv.push(vec![
-                centre_key(r.centre).into(),
+                CENTRE_KEY.into(),
                 p.rev_s.map_or("locked".into(), |s| sig(s, 4)).into(),
                 p.skips.into(),
                 p.rebounds.into(),
@@ -119,7 +119,7 @@ fn map_figure(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), S
             })
             .collect();
         panels.push(Panel::Heat(Heatmap {
-            title: format!("pressure at {}", centre_name(r.centre)),
+            title: format!("pressure at {}", CENTRE_NAME),
             x_label: "tilt (attack angle) α (°)".into(),
             y_label: "spin Ω (rev/s)".into(),
             x_range: (
@@ -174,20 +174,20 @@ fn count_figure(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(),
     let spins = &g.curve_spins;
     for (r, c) in results.iter().zip([colors::BLUE, colors::RED]) {
         chart = chart.series(Series::new(
-            format!("skips, free rotation, {}", centre_name(r.centre)),
+            format!("skips, free rotation, {}", CENTRE_NAME),
             log_curve(&r.counts, |p| p.skips as f64),
             c,
             Mark::LinePoints,
         ));
         chart = chart.series(Series::new(
-            format!("rebounds, {}", centre_key(r.centre)),
+            format!("rebounds, {}", CENTRE_KEY),
             log_curve(&r.counts, |p| p.rebounds as f64),
             c,
             Mark::Dashed,
         ));
         if let Some(l) = r.counts.iter().find(|p| p.rev_s.is_none()) {
             chart = chart.line(RefLine::h(
-                format!("locked attitude, {}: {}", centre_key(r.centre), l.skips),
+                format!("locked attitude, {}: {}", CENTRE_KEY, l.skips),
                 l.skips as f64,
                 c,
             ));
@@ -256,7 +256,7 @@ fn report(g: &SpinGrid, results: &[CentreResult]) -> String {
         let v = &r.vc12;
         let v0 = &r.vc12_no_spin;
         rows.push(vec![
-            centre_name(r.centre),
+            CENTRE_NAME.to_string(),
             thr,
             format!(
                 "{}: inclination {:+.1}°, axis turn {:.1}°",
@@ -300,7 +300,7 @@ fn report(g: &SpinGrid, results: &[CentreResult]) -> String {
         let mono_r = drops(&r.counts, |p| p.rebounds as f64);
         let mono_d = drops(&r.counts, |p| p.distance);
         rows.push(vec![
-            centre_name(r.centre),
+            CENTRE_NAME.to_string(),
             locked.to_string(),
             range,
             p.map_or("–".into(), |p| sig(p, 2)),
