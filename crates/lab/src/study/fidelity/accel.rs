@@ -20,7 +20,8 @@ use stoneskip_physics::sim::{Outcome, Simulation};
 
 use super::super::table::{md_table, sig, Csv};
 use super::super::{check_cancel, Ctx, StudyError};
-use super::common::{before, par_map, shipped_for, QUICK_CELL};
+use super::common::{before, shipped_for, QUICK_CELL};
+use crate::study::par_map;
 
 /// Tang et al.'s threshold: a bounce needs an acceleration above this many g.
 pub const TANG_G: f64 = stoneskip_physics::sim::TANG_BOUNCE_G;

@@ -4,6 +4,7 @@
 //! takes in its first flight against the gyroscopic estimate M t/(I₃ ω) (a moment M turns an
 //! angular momentum I₃ ω at M/(I₃ ω) radians a second). Compute, then results, then the report.
 
+use crate::study::par_map;
 use std::f64::consts::TAU;
 
 use stoneskip_physics::sim::air::Air;
@@ -67,7 +68,7 @@ pub fn compute(ctx: &Ctx, shipped: &[PresetCheck]) -> Result<AirStudy, StudyErro
         .iter()
         .filter_map(|stem| shipped.iter().find(|c| c.stem == *stem))
         .collect();
-    let presets = super::common::par_map(pebbles, |check| {
+    let presets = par_map(pebbles, |check| {
         let mut off = shipped_for(check.stem, q)?;
         off.physics.air = None;
         Ok(AirPreset {
@@ -79,7 +80,7 @@ pub fn compute(ctx: &Ctx, shipped: &[PresetCheck]) -> Result<AirStudy, StudyErro
     let mut p = shipped_for("default", q)?;
     p.physics.air = None;
     let sweep_off = spin_runs(&p, &spin_revs(q), &ensemble_offsets(q))?;
-    let rolls = super::common::par_map(roll_spins(q), |rev| first_roll(q, rev))?;
+    let rolls = par_map(roll_spins(q), |rev| first_roll(q, rev))?;
     let record_steeper = if q {
         None
     } else {

@@ -3,6 +3,7 @@
 //! 11's model as compiled in, the model before issue 11, a throw's shape, the spin sweep's runs and
 //! their ensembles, and rayon's ordered map.
 
+use crate::study::par_map;
 use std::f64::consts::TAU;
 
 use stoneskip_physics::sim::metrics::{throw_shape, ThrowShape};
@@ -59,15 +60,6 @@ pub const SHIPPED: [(&str, &str); 9] = [
         include_str!("../../../../../docs/studies/fidelity/presets/no_spin_dive.ron"),
     ),
 ];
-
-/// `f` over `items` on rayon's pool, in order; the first error wins.
-pub fn par_map<T: Send, R: Send>(
-    items: Vec<T>,
-    f: impl Fn(T) -> Result<R, StudyError> + Sync + Send,
-) -> Result<Vec<R>, StudyError> {
-    use rayon::prelude::*;
-    items.into_par_iter().map(f).collect()
-}
 
 /// Column size of the near-field water in `--quick` runs (coarse: 15× cheaper than the presets'
 /// 2 cm, and still free of planing glides, §3).

@@ -12,6 +12,7 @@
 //! the "no hovercraft" rule and the record class's count (criterion 4) off every run. Compute,
 //! then results, then the report.
 
+use crate::study::par_map;
 use glam::DVec3;
 
 use stoneskip_physics::sim::metrics::{hovercraft, ThrowShape};
@@ -21,8 +22,7 @@ use stoneskip_physics::sim::{Outcome, Simulation};
 use super::super::table::{md_table, sig, Csv};
 use super::super::{check_cancel, Ctx, StudyError};
 use super::common::{
-    ensemble_offsets, lower_median, par_map, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE,
-    QUICK_CELL,
+    ensemble_offsets, lower_median, shipped_for, MAX_EARLIER_CONTACT, MAX_FINAL_SHARE, QUICK_CELL,
 };
 
 /// The shipped presets' column and rest depth (m), the row the others are read against.

@@ -14,13 +14,13 @@
 //! planing centre and the spray root; that option is retired and its rows are in
 //! docs/studies/retired.md.) Compute, then results, then the report.
 
+use crate::study::par_map;
 use stoneskip_physics::sim::params::{Preset, Rotation};
 
 use super::super::table::{md_table, sig, Csv};
 use super::super::{Ctx, StudyError};
 use super::common::{
-    ensemble_offsets, lower_median, par_map, shape, shipped_for, spin_drops, spin_revs, spin_runs,
-    SpinRun,
+    ensemble_offsets, lower_median, shape, shipped_for, spin_drops, spin_revs, spin_runs, SpinRun,
 };
 
 /// The label of the model with neither the air nor friction.

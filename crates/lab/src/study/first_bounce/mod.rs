@@ -22,7 +22,7 @@ use stoneskip_physics::sim::params::{LagLength, MemoryParams, Preset, Quadrature
 use stoneskip_physics::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
 use stoneskip_physics::sim::simulate;
 
-use super::fidelity::common::par_map;
+use super::par_map;
 use super::whole_throw::{halve_cell, preset, shape_of, tangential_preset, Change, Model, THROWS};
 use super::{check_cancel, Ctx, StudyError};
 

@@ -23,7 +23,7 @@ use stoneskip_physics::sim::params::{
 use stoneskip_physics::sim::scenario::{at_impact, first_contact, min_speed, IMPACT_CLEARANCE};
 use stoneskip_physics::sim::{simulate, Summary};
 
-use super::fidelity::common::par_map;
+use super::par_map;
 use super::{check_cancel, Ctx, StudyError};
 
 /// The whole throws the issue checks.
