@@ -814,6 +814,18 @@ fn the_contacts_table_fits_its_panel() {
         .map(|r| r.right())
         .fold(0.0f32, f32::max);
     assert!(widest > header.right(), "no row of the table found");
+    // Nor does any other text of the panel run past the window's edge (the outcome's words).
+    for n in h.query_all_by_role(Role::Label) {
+        let r = n.rect();
+        if r.left() >= panel_left && r.top() < 720.0 {
+            assert!(
+                r.right() <= panel_right + 0.5,
+                "{:?} ends at {}",
+                n.accesskit_node().value(),
+                r.right()
+            );
+        }
+    }
     assert!(widest <= panel_right, "a cell ends at {widest}");
 }
 

@@ -11,9 +11,8 @@ use crate::ui::{self, Action, Phase};
 
 /// The side view's legend: its ticks and its stone glyphs (drawn at the true angle whatever the
 /// exaggeration; coloured by bank, [`build::glyph_color`]).
-pub const SIDE_LEGEND: &str = "ticks: green a skip, red the contact that stayed in the water · \
-     stones: the tilt each met the water at, at its true angle (nose-down dips right); orange \
-     banked over 10°, purple on its edge (over 20°), red where it dug in";
+pub const SIDE_LEGEND: &str = "ticks: green a skip, red where it stayed in · stones: its tilt as \
+     it met the water, at the true angle; orange banked over 10°, purple on its edge, red dug in";
 
 /// Text on a dark backing (readable over the pale sky, also on a washed-out projector) with a
 /// drop shadow; returns where it was drawn.

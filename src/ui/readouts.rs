@@ -130,7 +130,9 @@ pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
             }
             ui.end_row();
             ui.label("Outcome");
-            ui.label(r.outcome.as_deref().unwrap_or("—"));
+            // Wrapped: a long ending ("dug in nose-down at touch 2 (tilt −1.1°)") in the
+            // panel's width, not past the window's edge.
+            ui.add(egui::Label::new(r.outcome.as_deref().unwrap_or("—")).wrap());
             ui.end_row();
             if let Some(g) = r.glide {
                 ui.label("Glide").on_hover_text(

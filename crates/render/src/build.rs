@@ -378,7 +378,7 @@ pub fn side_profile(tilt: f64, bank: f64, thickness: f64) -> Vec<[f64; 2]> {
 }
 
 /// Points of a glyph's outline.
-const GLYPH_POINTS: usize = 32;
+pub const GLYPH_POINTS: usize = 32;
 
 /// Where the side view draws the glyph of a contact, and how large (m along the waterline):
 /// its centre stands over the touch, on top of the touch's tick.
@@ -391,7 +391,7 @@ pub fn glyph_centre(c: &ContactEvent, camera: &Camera) -> (Vec3, f32) {
     (Vec3::new(c.x as f32, c.y as f32, rise), size)
 }
 
-/// The side view's attitude glyphs: at each touch (grazes left out), the stone as it met the
+/// The side view's attitude glyphs: at each touch ([`glyph_touches`]), the stone as it met the
 /// water — its profile at its tilt, drawn at the true angle whatever the exaggeration (the
 /// heights of the glyph are divided by it, as the camera multiplies them), coloured by its bank
 /// ([`glyph_color`]); the touch it dug in nose-down at (`dug_in`, counted from 1) drawn in red
@@ -405,11 +405,9 @@ pub fn attitude_glyphs(
     let along = Vec3::new(framing.heading.cos(), framing.heading.sin(), 0.0);
     let k = camera.exaggeration.max(1e-3);
     let mut lines = Vec::new();
-    for (i, c) in contacts.iter().enumerate().filter(|(_, c)| !c.graze) {
+    for i in glyph_touches(framing, contacts, camera, dug_in) {
+        let c = &contacts[i];
         let [tilt, bank, _] = c.attitude_in;
-        if !(tilt.is_finite() && bank.is_finite()) {
-            continue;
-        }
         let here = dug_in == Some(i + 1);
         let (centre, size) = glyph_centre(c, camera);
         let to_world = |q: [f64; 2]| {
@@ -427,6 +425,42 @@ pub fn attitude_glyphs(
         }));
     }
     lines
+}
+
+/// Glyphs closer than this many glyph widths along the waterline are not both drawn.
+pub const GLYPH_GAP: f32 = 1.15;
+
+/// The contacts (indices) whose glyphs the side view draws: every touch (grazes left out) but
+/// one that would overlap the last drawn (touches closer than [`GLYPH_GAP`] glyphs apart, as the
+/// small hops at a long throw's end are seen from far); the touch it dug in at always, in place
+/// of its neighbour. Zooming in (a smaller glyph in metres) brings the others back.
+pub fn glyph_touches(
+    framing: &Framing,
+    contacts: &[ContactEvent],
+    camera: &Camera,
+    dug_in: Option<usize>,
+) -> Vec<usize> {
+    let along = Vec3::new(framing.heading.cos(), framing.heading.sin(), 0.0);
+    let mut kept: Vec<(usize, f32)> = Vec::new();
+    for (i, c) in contacts.iter().enumerate() {
+        let [tilt, bank, _] = c.attitude_in;
+        if c.graze || !(tilt.is_finite() && bank.is_finite()) {
+            continue;
+        }
+        let (centre, size) = glyph_centre(c, camera);
+        let s = (centre - framing.launch).dot(along);
+        let must = dug_in == Some(i + 1);
+        match kept.last() {
+            Some(&(_, last)) if (s - last).abs() < GLYPH_GAP * size => {
+                if must {
+                    kept.pop();
+                    kept.push((i, s));
+                }
+            }
+            _ => kept.push((i, s)),
+        }
+    }
+    kept.into_iter().map(|(i, _)| i).collect()
 }
 
 /// The aim preview: the first flight's arc from the launch until the centre of mass reaches the
@@ -654,6 +688,48 @@ mod tests {
                 nose.distance(tail)
             );
         }
+    }
+
+    /// Touches too close to tell apart at the view's scale share one glyph; the touch a throw
+    /// dug in at is always drawn.
+    #[test]
+    fn close_touches_share_a_glyph_and_the_dug_in_one_is_always_drawn() {
+        let mut sim = Simulation::new(&Preset::default()).unwrap();
+        while sim.contacts().is_empty() && sim.time() < 5.0 {
+            sim.tick();
+        }
+        let c = sim.contacts()[0];
+        let trail = Trail::new();
+        let framing = framing_of(&sim, &trail, None);
+        let cam = Camera::side_view(
+            Vec3::ZERO,
+            Vec3::new(200.0, 0.0, 0.3),
+            framing.heading,
+            16.0 / 9.0,
+            10.0,
+        );
+        let (_, size) = glyph_centre(&c, &cam);
+        let at = |x: f64| ContactEvent { x, ..c };
+        let far = 2.0 * size as f64;
+        let near = 0.3 * size as f64;
+        let touches = [
+            at(10.0),
+            at(10.0 + near),
+            at(10.0 + far),
+            at(10.0 + far + near),
+        ];
+        assert_eq!(glyph_touches(&framing, &touches, &cam, None), vec![0, 2]);
+        assert_eq!(glyph_touches(&framing, &touches, &cam, Some(4)), vec![0, 3]);
+        // Close in, every touch has its own.
+        let close = Camera::side_view(
+            Vec3::ZERO,
+            Vec3::new(0.5, 0.0, 0.3),
+            framing.heading,
+            16.0 / 9.0,
+            10.0,
+        );
+        let small: Vec<ContactEvent> = (0..4).map(|k| at(k as f64 * near)).collect();
+        assert_eq!(glyph_touches(&framing, &small, &close, None).len(), 4);
     }
 
     /// The glyph of the touch a throw dug in at is the red one; the others are coloured by bank.
