@@ -203,6 +203,17 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, ending: 
         ui.weak("no contact yet");
         return;
     }
+    ui.horizontal_wrapped(|ui| {
+        ui.spacing_mut().item_spacing.x = 6.0;
+        for (word, color) in [
+            ("skip", SKIP_GREEN),
+            ("sank", SANK_RED),
+            ("glide", GLIDE_BLUE),
+        ] {
+            ui.label(RichText::new(word).color(color).small());
+        }
+        ui.label(RichText::new("graze").weak().small());
+    });
     // Issue 48: every column in the readouts panel's width, no sideways scroll: short headers
     // (their meaning on hover) and no digit finer than the model means.
     egui::ScrollArea::vertical()
@@ -229,13 +240,19 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, ending: 
         });
 }
 
+/// The contacts table's colours of a skip, a contact it sank in, and a glide.
+const SKIP_GREEN: egui::Color32 = egui::Color32::from_rgb(140, 235, 110);
+const SANK_RED: egui::Color32 = egui::Color32::from_rgb(255, 120, 100);
+const GLIDE_BLUE: egui::Color32 = egui::Color32::from_rgb(120, 200, 255);
+
 /// The contacts table's headers, short enough that the table fits the readouts panel, each
 /// with what it means on hover.
 pub const CONTACT_COLUMNS: [(&str, &str); 9] = [
     (
         "#",
-        "skip: the water threw the stone back into the air; graze: a crest brushed the stone \
-         without turning it upward (not counted); glide: a planing slide that never left the water",
+        "the contact's number, in its kind's colour: skip, the water threw the stone back into the \
+         air; sank; graze, a crest brushed the stone without turning it upward (not counted); \
+         glide, a planing slide that never left the water",
     ),
     ("ms", "how long the contact lasted (ms)"),
     (
@@ -270,14 +287,15 @@ pub const CONTACT_COLUMNS: [(&str, &str); 9] = [
 fn contact_row_ui(ui: &mut Ui, number: usize, c: &ContactEvent, radius: f64) {
     let (mark, color) = match contact_kind(c, radius) {
         ContactKind::Open => ("...", ui.visuals().text_color()),
-        ContactKind::Skip => ("skip", egui::Color32::from_rgb(140, 235, 110)),
+        ContactKind::Skip => ("skip", SKIP_GREEN),
         ContactKind::Graze => ("graze", ui.visuals().weak_text_color()),
-        ContactKind::Sank => ("sank", egui::Color32::from_rgb(255, 120, 100)),
-        ContactKind::Glide => ("glide", egui::Color32::from_rgb(120, 200, 255)),
+        ContactKind::Sank => ("sank", SANK_RED),
+        ContactKind::Glide => ("glide", GLIDE_BLUE),
     };
-    ui.label(RichText::new(format!("{number} {mark}")).color(color))
+    // The number in the kind's colour (the key above the table), the word on hover.
+    ui.label(RichText::new(format!("{number}")).monospace().color(color))
         .on_hover_text(format!(
-            "began at t = {:.3} s, slid {:.2} m",
+            "{mark}: began at t = {:.3} s, slid {:.2} m",
             c.t_start,
             slide_distance(c)
         ));
