@@ -99,9 +99,8 @@ pub const MODEL: &[ModelItem] = &[
     ),
     item(
         "Spin",
-        "Spin keeps the stone steady: each touch of the water turns it a little, and the faster \
-         it spins the less it turns, so a little spin lays it flatter and a flatter stone skips \
-         more.",
+        "Spin keeps the stone steady: each touch of the water turns it a little, less the faster \
+         it spins, and a stone kept flat skips more.",
         "Free rotation: a contact's lift acts behind the centre and turns the spinning axis by \
          J·ℓ/(I₃ω). The default throw makes most skips at 15–25 rev/s and fewer towards the held \
          attitude's count at high spin; without spin it dives. The curve as it is, not tuned: no \
