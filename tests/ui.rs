@@ -825,7 +825,10 @@ fn the_contacts_table_fits_its_panel() {
         .fold(0.0f32, f32::max);
     assert!(widest > header.right(), "no row of the table found");
     // The numbers stop short of the vertical scroll bar (59 rows scroll) at the panel's edge.
-    assert!(widest <= panel_right - 12.0, "a cell ends at {widest}, under the scroll bar");
+    assert!(
+        widest <= panel_right - 12.0,
+        "a cell ends at {widest}, under the scroll bar"
+    );
     // Nor does any other text of the panel run past the window's edge (the outcome's words).
     for n in h.query_all_by_role(Role::Label) {
         let r = n.rect();
