@@ -654,3 +654,146 @@ fn the_columns_two_cell_mode_is_not_drawn() {
         diff(&a, &c)
     );
 }
+
+/// Whether `line` is one of the side view's attitude glyphs (by its colours).
+fn is_glyph(line: &stoneskip::render::Line) -> bool {
+    use stoneskip::render::build::{
+        GLYPH_BANKED_COLOR, GLYPH_DUG_IN_COLOR, GLYPH_EDGE_COLOR, GLYPH_LEVEL_COLOR,
+    };
+    [
+        GLYPH_LEVEL_COLOR,
+        GLYPH_BANKED_COLOR,
+        GLYPH_EDGE_COLOR,
+        GLYPH_DUG_IN_COLOR,
+    ]
+    .contains(&line.color)
+}
+
+/// Issue 48: the side view draws the stone as it met the water at each touch, over the touch:
+/// the picture differs from one without the glyphs around each skip's projected glyph, and
+/// only in the upper part of the view above the waterline.
+#[test]
+fn the_side_view_draws_the_stones_tilt_at_each_touch() {
+    let Some(mut off) = offscreen() else { return };
+    let state = finished_default();
+    let (w, h) = (640u32, 360u32);
+    let aspect = w as f32 / h as f32;
+    let with = state.scene_for_view(SceneStyle::default(), ViewMode::Side, 10.0, aspect);
+    let mut without = with.clone();
+    without.lines.retain(|l| !is_glyph(l));
+    let glyphs = with.lines.len() - without.lines.len();
+    let cam = with.camera;
+    let framing = stoneskip::render::build::framing_of(&state.sim, &state.trail, None);
+    let drawn = stoneskip::render::build::glyph_touches(&framing, state.sim.contacts(), &cam, None);
+    let touches = state.sim.contacts().iter().filter(|c| !c.graze).count();
+    assert!(touches > 3);
+    // Touches too close to tell apart at this scale share a glyph; most have their own.
+    assert!(
+        2 * drawn.len() >= touches,
+        "{} glyphs for {touches} touches",
+        drawn.len()
+    );
+    assert_eq!(
+        glyphs,
+        drawn.len() * stoneskip::render::build::GLYPH_POINTS,
+        "{glyphs} glyph lines for {touches} touches"
+    );
+    let a = off.render(&with, w, h).unwrap();
+    let b = off.render(&without, w, h).unwrap();
+    if std::env::var("STONESKIP_KEEP_PICTURES").is_ok_and(|v| v == "1") {
+        let _ = a.save(std::env::temp_dir().join("stoneskip-side-glyphs.png"));
+    }
+    let mut seen = 0;
+    for c in drawn.iter().map(|&i| &state.sim.contacts()[i]) {
+        let (centre, _) = stoneskip::render::build::glyph_centre(c, &cam);
+        let q = cam.project(centre, w, h).unwrap();
+        if q.x < 0.0 || q.x >= w as f32 || q.y < 0.0 || q.y >= h as f32 {
+            continue;
+        }
+        // Above the waterline where the touch is.
+        let water = cam.project(centre.with_z(0.0), w, h).unwrap();
+        assert!(q.y < water.y, "glyph at {q:?}, water at {water:?}");
+        if max_diff_near(&a, &b, q.x, q.y, 6) > 60 {
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, drawn.len(), "{seen} of {} glyphs seen", drawn.len());
+}
+
+/// Issue 48: the exported picture (`stoneskip render`, and the app's View PNG, which draws the
+/// same legend) carries its legend and scale in a strip under the view: the view's pixels are
+/// those of the picture without it, and the strip holds lines of light text and the bar.
+#[test]
+fn the_exported_picture_has_a_legend_and_a_scale() {
+    if offscreen().is_none() {
+        return;
+    }
+    let preset = default_preset();
+    let view = PictureView {
+        view: ViewMode::Side,
+        exaggeration: 10.0,
+    };
+    let (w, h) = (640u32, 360u32);
+    let plain = stoneskip::render::render_image(&preset, w, h, 4.0, view).unwrap();
+    let with = stoneskip::render::render_picture(&preset, w, h, 4.0, view).unwrap();
+    if std::env::var("STONESKIP_KEEP_PICTURES").is_ok_and(|v| v == "1") {
+        let _ = with.save(std::env::temp_dir().join("stoneskip-legend.png"));
+    }
+    assert_eq!(with.width(), w);
+    assert!(
+        with.height() > h + 40,
+        "no strip: {} px tall",
+        with.height()
+    );
+    let top = image::imageops::crop_imm(&with, 0, 0, w, h).to_image();
+    let (n, _, _) = changed(&plain, &top, 30);
+    assert_eq!(n, 0, "the legend covers {n} pixels of the view");
+    // Several lines of text: light pixels in rows spread over the strip.
+    let rows: std::collections::BTreeSet<u32> = with
+        .enumerate_pixels()
+        .filter(|(_, y, p)| *y >= h && luma(p) > 150.0)
+        .map(|(_, y, _)| y)
+        .collect();
+    assert!(
+        rows.len() > 30,
+        "text on only {} rows of the strip",
+        rows.len()
+    );
+    // The legend's scale: the side view has one, of round metres, about a fifth of the width.
+    let state = SimulatedScene::at_time(&preset, 4.0).unwrap();
+    let scene = state.scene_for_view(
+        SceneStyle::default(),
+        ViewMode::Side,
+        10.0,
+        w as f32 / h as f32,
+    );
+    let framing = stoneskip::render::build::framing_of(&state.sim, &state.trail, None);
+    let legend = stoneskip::render::legend::legend_of(
+        &state.sim,
+        ViewMode::Side,
+        &scene.camera,
+        &framing,
+        (w, h),
+    );
+    let bar = legend.scale.expect("a scale in the side view");
+    assert!([1.0, 2.0, 5.0, 10.0].contains(&bar.metres), "{bar:?}");
+    assert!(
+        bar.pixels > 0.08 * w as f32 && bar.pixels <= 0.21 * w as f32,
+        "{bar:?}"
+    );
+    // It names the skips and what the glyphs mean.
+    let text: Vec<&str> = legend.lines.iter().map(|l| l.text.as_str()).collect();
+    assert!(
+        text[0].contains(&format!("{} skips", state.sim.skips())),
+        "{text:?}"
+    );
+    assert!(text.iter().any(|t| t.contains("tilt")), "{text:?}");
+    // The behind view is in perspective: no scale.
+    assert!(stoneskip::render::legend::scale_bar(
+        ViewMode::Behind,
+        &scene.camera,
+        &framing,
+        (w, h)
+    )
+    .is_none());
+}

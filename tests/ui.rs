@@ -781,3 +781,163 @@ fn experiments_leave_the_view_most_of_the_height() {
     let view = h.state().view_rect.height();
     assert!(view >= 0.6 * 720.0, "the view is {view} px of 720");
 }
+
+/// Issue 48, finding 7: at 1280 × 720 the contacts table shows every column, tilt and bank at
+/// landing included, inside the readouts panel: no sideways scroll to reach peak g. The throw
+/// with the widest numbers: the default on the Moon without air (59 skips over 234 m).
+#[test]
+fn the_contacts_table_fits_its_panel() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut moon = model("default", dir.path());
+    let mut p = moon.sim.preset().clone();
+    stoneskip::sim::world::World::Moon.apply(&mut p.physics);
+    let mut m = Model::new(p, None, Options::default()).expect("the model");
+    m.library = std::mem::take(&mut moon.library);
+    m.out_dir = moon.out_dir.clone();
+    let mut h = harness_sized(m, [1280.0, 720.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Throw").click();
+    until_outcome(&mut h, 40_000);
+    assert!(h.state().sim.contacts().len() >= 10);
+    assert!(h.state().sim.distance() >= 100.0);
+    pause(&mut h, 3);
+    // The readouts panel's content runs from its headings' left edge to the window's.
+    let panel_left = h
+        .get_by_role_and_label(Role::DisclosureTriangle, "Contacts")
+        .rect()
+        .left();
+    let panel_right = 1280.0;
+    for name in ["#", "tilt", "bank", "g"] {
+        let r = h.get_by_label(name).rect();
+        assert!(
+            r.left() >= panel_left && r.right() <= panel_right,
+            "{name} at {r:?}, the panel spans {panel_left}..{panel_right}"
+        );
+    }
+    // A row's numbers reach as far as its header: its last cell inside the panel too.
+    let header = h.get_by_label("#").rect();
+    let widest = h
+        .query_all_by_label_contains("°")
+        .map(|n| n.rect())
+        .filter(|r| r.top() >= header.bottom() && r.top() < header.bottom() + 150.0)
+        // The table's own clip: inside its scroll bar.
+        .map(|r| r.right())
+        .fold(0.0f32, f32::max);
+    assert!(widest > header.right(), "no row of the table found");
+    // The numbers stop short of the vertical scroll bar (59 rows scroll) at the panel's edge.
+    assert!(
+        widest <= panel_right - 12.0,
+        "a cell ends at {widest}, under the scroll bar"
+    );
+    // Nor does any other text of the panel run past the window's edge (the outcome's words).
+    for n in h.query_all_by_role(Role::Label) {
+        let r = n.rect();
+        if r.left() >= panel_left && r.top() < 720.0 {
+            assert!(
+                r.right() <= panel_right + 0.5,
+                "{:?} ends at {}",
+                n.accesskit_node().value(),
+                r.right()
+            );
+        }
+    }
+    assert!(widest <= panel_right, "a cell ends at {widest}");
+}
+
+/// The default throw with a heavier stone, `mass` kg: its landings tip it differently (issue 48,
+/// finding 2: 0.16–0.28 kg give 3 / 1 / 15 / 1 / 1 / 11 / 10 skips).
+fn default_with_mass(mass: f64, dir: &Path) -> Model {
+    let mut m = model("default", dir);
+    let mut p = m.sim.preset().clone();
+    p.stone.mass = mass;
+    let mut fresh = Model::new(p, None, Options::default()).expect("the model");
+    fresh.library = std::mem::take(&mut m.library);
+    fresh.out_dir = m.out_dir.clone();
+    fresh
+}
+
+/// Issue 48: a throw that ends dug in nose-down shows it in the side view: the red glyph at the
+/// touch it dug in at, and "dug in nose-down here" over it (what Watch on such a point shows).
+#[test]
+fn a_nose_down_ending_is_marked_in_the_side_view() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness_sized(default_with_mass(0.18, dir.path()), [1280.0, 720.0]);
+    h.run_ok();
+    h.state_mut().handle(stoneskip::ui::Action::View(
+        stoneskip::ui::ViewRequest::Side,
+    ));
+    h.get_by_role_and_label(Role::Button, "Throw").click();
+    until_outcome(&mut h, 20_000);
+    let ending = h.state().sim.ending();
+    let stoneskip::sim::ending::Ending::NoseDown { touch, tilt } = ending else {
+        panic!("the 0.18 kg throw ended {ending:?}, not nose-down");
+    };
+    assert!(tilt < 0.0);
+    let label = h
+        .query_by_label_contains("dug in nose-down here")
+        .expect("no label over the touch it dug in at");
+    let words = format!(
+        "{:?} {:?}",
+        label.accesskit_node().label(),
+        label.accesskit_node().value()
+    );
+    assert!(words.contains(&format!("touch {touch}")), "{words}");
+    // The label stands in the view, and the red glyph is drawn at that touch.
+    let view = h.state().view_rect;
+    assert!(view.contains(label.rect().center()), "{:?}", label.rect());
+    let red = stoneskip::render::build::GLYPH_DUG_IN_COLOR;
+    let scene = h.state().scene();
+    let at = h.state().sim.contacts()[touch - 1];
+    let glyph: Vec<_> = scene.lines.iter().filter(|l| l.color == red).collect();
+    assert!(!glyph.is_empty(), "no red glyph");
+    assert!(glyph
+        .iter()
+        .all(|l| (l.a.x - at.x as f32).abs() < 5.0 && l.a.z > 0.0));
+}
+
+/// Issue 48, finding 7: `paper` opens saying what it shows, not warning about its own designed
+/// time step; the same step in a user's own preset (here paper with another mass) is warned of.
+#[test]
+fn a_shipped_preset_never_warns_about_its_own_design() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness(model("paper", dir.path()));
+    h.run_ok();
+    assert!(
+        h.query_by_label_contains("is too long").is_none(),
+        "paper warns: {:?}",
+        h.state().warnings
+    );
+    assert!(
+        h.query_by_label_contains("at its own 0.20 ms time step")
+            .is_some(),
+        "paper does not say what it shows"
+    );
+    type_into(&mut h, "Mass", "0.12");
+    pause(&mut h, 3);
+    assert!(
+        h.query_by_label_contains("is too long for the Paper integrator")
+            .is_some(),
+        "a user's own preset at that step is not warned of: {:?}",
+        h.state().warnings
+    );
+    assert!(h
+        .query_by_label_contains("at its own 0.20 ms time step")
+        .is_none());
+}
+
+/// Issue 48, finding 7: "The model in detail" opens each item with a plain sentence, the
+/// sources after it, and spin first of what turns the stone.
+#[test]
+fn the_model_in_detail_opens_each_item_plainly() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness_sized(model("default", dir.path()), [1280.0, 2400.0]);
+    h.run_ok();
+    h.state_mut().show_about = true;
+    h.run_ok();
+    let top = |h: &Harness<'_, Model>, text: &str| h.get_by_label_contains(text).rect().top();
+    let spin = top(&h, "Spin keeps the stone steady");
+    let sources = top(&h, "[Tang et al. 2021; Clanet et al. 2004");
+    assert!(spin < sources, "the sources come before the plain sentence");
+    assert!(spin < top(&h, "The stone can be held at one angle"));
+    assert!(spin < top(&h, "Spinning about its own middle"));
+}

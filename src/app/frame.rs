@@ -14,6 +14,7 @@ use super::model::{Model, Shot};
 use super::platform::{App, Gfx, Recoveries};
 use super::redraw::{self, PanelTiles};
 use super::soak::{MAX_THROW_FRAMES, SOAK_SPEED};
+use crate::render::legend;
 use crate::render::offscreen::read_rgba8;
 use crate::render::Viewport;
 use crate::sim::Outcome;
@@ -582,8 +583,19 @@ fn screenshot(
     for px in pixels.chunks_exact_mut(4) {
         px[3] = 255;
     }
-    let img = image::RgbaImage::from_raw(w, h, pixels)
+    let mut img = image::RgbaImage::from_raw(w, h, pixels)
         .ok_or_else(|| anyhow!("pixel count does not match"))?;
+    if shot == Shot::ViewOnly {
+        // The view alone leaves the panels behind: its legend and scale say what it shows.
+        let legend = legend::legend_of(
+            &model.sim,
+            model.view_mode,
+            &model.camera,
+            &model.framing(),
+            (w, h),
+        );
+        img = legend::with_legend(&img, &legend);
+    }
     std::fs::create_dir_all(&model.out_dir)
         .with_context(|| format!("creating {}", model.out_dir.display()))?;
     let path = files::output_path(&model.out_dir, &model.sim.preset().name, "png");

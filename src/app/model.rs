@@ -90,7 +90,9 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
     let ms = dt * 1e3;
     // The stability study's table A (docs/studies/stability): past the stable step a fixed-step
     // integrator's contact bounces super-elastically; past the accurate one it is off by over 1 %.
-    if let Some((stable, accurate)) = stable_step(p.physics.integrator) {
+    // A shipped preset's step is its design: [`design_note`] says what it shows instead.
+    let step = stable_step(p.physics.integrator).filter(|_| as_shipped(p).is_none());
+    if let Some((stable, accurate)) = step {
         if dt > stable {
             w.push(format!(
                 "The time step ({ms:.2} ms) is too long for the {:?} integrator: bounces may gain \
@@ -136,6 +138,34 @@ pub fn setup_warnings(p: &Preset) -> Vec<String> {
         ));
     }
     w
+}
+
+/// The file stem of the shipped preset `p` is, unchanged (issue 48: a shipped preset never
+/// warns about its own design); `None` for a user's own or an edited one.
+pub fn as_shipped(p: &Preset) -> Option<&'static str> {
+    let quoted = format!("name: \"{}\"", p.name);
+    preset::SHIPPED
+        .iter()
+        .filter(|(_, text)| text.contains(&quoted))
+        .find(|(stem, _)| preset::shipped(stem).and_then(Result::ok).as_ref() == Some(p))
+        .map(|(stem, _)| *stem)
+}
+
+/// What a shipped preset whose time step would be warned about in a user's own shows instead
+/// (`paper`: the 2005 paper's integrator at its own step); `None` for every other preset.
+pub fn design_note(p: &Preset) -> Option<String> {
+    let (_, accurate) = stable_step(p.physics.integrator)?;
+    if p.physics.dt <= accurate {
+        return None;
+    }
+    as_shipped(p)?;
+    Some(format!(
+        "{}: the {:?} integrator at its own {:.2} ms time step, as its authors ran it, to compare \
+         with the shipped model's skips and distance.",
+        p.name,
+        p.physics.integrator,
+        p.physics.dt * 1e3
+    ))
 }
 
 /// The densest rock a stone may be (kg/m³): haematite, an iron ore, about 5 300.
@@ -1018,10 +1048,15 @@ impl Model {
         if self.view_mode == ViewMode::Side {
             scene.side_view = true;
             // The lake's rim stays; the side view's guides replace nothing else.
-            scene.lines.extend(side_guides(
-                &self.framing(),
+            let framing = self.framing();
+            scene
+                .lines
+                .extend(side_guides(&framing, self.sim.contacts(), &self.camera));
+            scene.lines.extend(build::attitude_glyphs(
+                &framing,
                 self.sim.contacts(),
                 &self.camera,
+                build::dug_in_touch(&self.sim),
             ));
         }
         if self.phase == Phase::Ready && self.invalid.is_none() {

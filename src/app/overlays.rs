@@ -5,8 +5,14 @@
 use egui::{Align2, Color32, FontId, RichText};
 
 use super::model::Model;
+use crate::render::build;
 use crate::render::camera::ViewMode;
 use crate::ui::{self, Action, Phase};
+
+/// The side view's legend: its ticks and its stone glyphs (drawn at the true angle whatever the
+/// exaggeration; coloured by bank, [`build::glyph_color`]).
+pub const SIDE_LEGEND: &str = "ticks: green a skip, red where it stayed in · stones: its tilt as \
+     it met the water, at the true angle; orange banked over 10°, purple on its edge, red dug in";
 
 /// Text on a dark backing (readable over the pale sky, also on a washed-out projector) with a
 /// drop shadow; returns where it was drawn.
@@ -96,6 +102,7 @@ impl Model {
         );
         if self.view_mode == ViewMode::Side {
             self.side_scale_ui(&painter);
+            self.dug_in_label_ui(ui);
         }
         let hint = if self.phase == Phase::Ready {
             "Space or drag from the stone: throw   ·   1–4: cameras   ·   F1 or ?: help"
@@ -111,15 +118,15 @@ impl Model {
         );
         let mut y = score_rect.bottom().max(label_rect.bottom()) + 8.0;
         // The side view's tick legend leads the stack, so no notice is drawn over it.
-        let legend = (self.view_mode == ViewMode::Side).then(|| {
-            (
-                "ticks: green a skip, red the contact that stayed in the water".to_owned(),
-                Color32::from_rgb(225, 232, 240),
-            )
-        });
+        let legend = (self.view_mode == ViewMode::Side)
+            .then(|| (SIDE_LEGEND.to_owned(), Color32::from_rgb(225, 232, 240)));
         let glide = self
             .glide_words()
             .map(|t| (t, Color32::from_rgb(140, 215, 255)));
+        // A shipped preset says what it shows, never warns about its own design (issue 48).
+        let design = super::model::design_note(self.sim.preset())
+            .map(|t| (t, Color32::from_rgb(150, 200, 255)));
+        let glide = glide.into_iter().chain(design);
         let lines = legend
             .into_iter()
             .chain(glide)
@@ -151,7 +158,12 @@ impl Model {
                 4.0,
                 Color32::from_black_alpha(120),
             );
-            painter.galley(at, galley, Color32::WHITE);
+            // A label, not paint, so a screen reader (and a test) reads it; it senses no click,
+            // so a drag over it still turns the camera.
+            ui.put(
+                egui::Rect::from_min_size(at, size),
+                egui::Label::new(galley).selectable(false),
+            );
             y += size.y + 8.0;
         }
         self.status_ui(ui, actions);
@@ -175,6 +187,51 @@ impl Model {
                  {time:.1} s before it sank."
             )
         })
+    }
+
+    /// Over the side view's glyph of the touch where the throw dug in nose-down (the red one,
+    /// [`build::attitude_glyphs`]): "dug in nose-down here" and its tilt, what a class sees
+    /// after Watch on such a throw.
+    fn dug_in_label_ui(&self, ui: &egui::Ui) {
+        let Some(touch) = build::dug_in_touch(&self.sim) else {
+            return;
+        };
+        let Some(c) = self.sim.contacts().get(touch.saturating_sub(1)) else {
+            return;
+        };
+        let rect = self.view_rect;
+        let (centre, size) = build::glyph_centre(c, &self.camera);
+        let top = centre + glam::Vec3::Z * (0.5 * size / self.camera.exaggeration.max(1e-3));
+        let (w, h) = (rect.width().max(1.0) as u32, rect.height().max(1.0) as u32);
+        let Some(q) = self.camera.project(top, w, h) else {
+            return;
+        };
+        let at = rect.min + egui::vec2(q.x, q.y - 6.0);
+        if !rect.contains(at) {
+            return;
+        }
+        // A label (not paint) so a screen reader, and a test, find it.
+        egui::Area::new(egui::Id::unique("dug_in_label"))
+            .order(egui::Order::Foreground)
+            .interactable(false)
+            .pivot(Align2::CENTER_BOTTOM)
+            .fixed_pos(at)
+            .show(ui.ctx(), |ui| {
+                egui::Frame::new()
+                    .fill(Color32::from_black_alpha(150))
+                    .corner_radius(5.0)
+                    .inner_margin(egui::Margin::symmetric(6, 2))
+                    .show(ui, |ui| {
+                        ui.label(
+                            RichText::new(format!(
+                                "dug in nose-down here (touch {touch}, tilt {:+.1}°)",
+                                c.attitude_in[0] + 0.0
+                            ))
+                            .size(15.0)
+                            .color(Color32::from_rgb(255, 140, 120)),
+                        );
+                    });
+            });
     }
 
     /// The side view's distance marks along the waterline (every 1, 2, 5 or 10 m from the launch);

@@ -1,6 +1,6 @@
 //! The help overlay (F1 or ?: every shortcut and mouse gesture) and the "about the model" panel:
 //! half a page in plain words (what a skip is, what the simulator does, what to try), then each
-//! law and option in a sentence with its source (design.md §4–5).
+//! law and option: a plain sentence first, then the detail and its sources (design.md §4–5).
 
 use egui::{RichText, Ui};
 
@@ -55,172 +55,232 @@ pub fn help_ui(ui: &mut Ui) {
     );
 }
 
-/// (topic, sentence, source) for the about panel.
-const MODEL: &[(&str, &str, &str)] = &[
-    (
+/// One item of "The model in detail": a plain first sentence a fifteen-year-old can read, then
+/// the detail for a teacher or a researcher, then the sources.
+#[derive(Debug, Clone, Copy)]
+pub struct ModelItem {
+    pub topic: &'static str,
+    /// One plain sentence: no symbols, no formulas.
+    pub plain: &'static str,
+    /// The law or option as the model states it.
+    pub detail: &'static str,
+    pub sources: &'static str,
+}
+
+const fn item(
+    topic: &'static str,
+    plain: &'static str,
+    detail: &'static str,
+    sources: &'static str,
+) -> ModelItem {
+    ModelItem {
+        topic,
+        plain,
+        detail,
+        sources,
+    }
+}
+
+/// "The model in detail", in the order a class meets it; spin leads what turns the stone.
+pub const MODEL: &[ModelItem] = &[
+    item(
         "Stone",
-        "A thin body of revolution (disc, lens) or a plate made of triangles; its mass is given, \
-         its centre and inertia come from the mesh.",
+        "The stone is made of many small flat triangles, like a football is made of patches.",
+        "A thin body of revolution (disc, lens) or a plate; its mass is given, its centre and \
+         inertia come from the mesh.",
         "the paper §2; Bocquet 2003 (plate)",
     ),
-    (
+    item(
         "Flight",
+        "In the air the stone falls like any thrown ball, and the air can lift and slow it a little.",
         "With the air off, exact ballistic motion under gravity, as in the paper; the shipped \
          pebbles fly through air (see Air in flight): kick–drift–kick around that exact flight.",
         "the paper, eqs. 4–8",
     ),
-    (
+    item(
+        "Spin",
+        "Spin keeps the stone steady: each touch of the water turns it a little, less the faster \
+         it spins, and a stone kept flat skips more.",
+        "Free rotation: a contact's lift acts behind the centre and turns the spinning axis by \
+         J·ℓ/(I₃ω). The default throw makes most skips at 15–25 rev/s and fewer towards the held \
+         attitude's count at high spin; without spin it dives. The curve as it is, not tuned: no \
+         measurement says more spin never costs skips.",
+        "Tang et al. 2021; Clanet et al. 2004; docs/studies/whole_throw §6",
+    ),
+    item(
+        "Rotation",
+        "The stone can be held at one angle all the way, or left free to turn as the pushes on it \
+         turn it.",
+        "Locked holds the attitude fixed (the paper's high-spin limit); Free makes the stone a \
+         rigid body with torque, spin and gyroscopic stability.",
+        "the paper (future work); Rosellini et al. 2005",
+    ),
+    item(
+        "Axial spin",
+        "Spinning about its own middle does not stir the water, because the pebble is smooth and \
+         round.",
+        "Smooth: the pebble stands for a smooth body of revolution, whose spin about its axis \
+         moves no water normal to its surface; the facets then neither paddle nor spin it up.",
+        "design §4; docs/studies/fidelity",
+    ),
+    item(
+        "Air in flight",
+        "Between touches the air lifts a tilted stone a little and slowly rolls it onto its side, \
+         like a Frisbee that curves away.",
+        "Optional (physics.air): the air lifts, drags and pitches the stone like a spinning disc \
+         wing, C_L = C_Lα α, C_D = C_D0 + C_Dα α², C_M = C_Mα α; the nose-up moment rolls a \
+         spinning stone by M/(I₃ω) per second, so less spin, more roll. Off: the paper's vacuum.",
+        "Crowther & Potts 2007; Hummel 2003; src/sim/air.rs",
+    ),
+    item(
         "Contact",
-        "A triangle touches when a vertex is at or below the surface; its wetted part is clipped \
-         by the surface and its area taken by the cross product (Heron's formula loses digits on \
-         slivers).",
+        "A triangle is wet when any corner of it is under the water, and only its wet part is \
+         pushed.",
+        "Its wetted part is clipped by the surface and its area taken by the cross product \
+         (Heron's formula loses digits on slivers).",
         "the paper §3.1–3.2, Fig. 5",
     ),
-    (
+    item(
         "Smooth lens",
+        "For a round pebble on flat water the pushes can be added up over its smooth shape \
+         instead of its triangles, which is faster and more exact.",
         "An option for a lens over flat water (Stone panel, Forces on): the same law summed over \
          the smooth ellipsoid the mesh stands for: Gauss nodes along the wet latitudes, and around \
          each waterline arc (found exactly instead of clipped) the pressure in closed form and the \
          friction at a few nodes; the mesh then only draws it.",
         "Gauss–Legendre quadrature; docs/studies/kernel.md",
     ),
-    (
+    item(
         "Paper law",
+        "The faster a wet triangle moves into the water, the harder the water pushes it back.",
         "Each wetted face is pushed along its normal by ½ C_l ρ v_n² S and dragged by \
          ½ C_f ρ |V_t|² S.",
         "the paper, eqs. 11–24; Nagahiro & Hayakawa 2005",
     ),
-    (
+    item(
         "Bocquet law",
+        "The push grows with the whole stone's speed: the simplest rule, the one worked out by \
+         hand for a flat plate.",
         "The same directions with magnitudes ½ C ρ U² S from the centre-of-mass speed U: on a \
          thin plate, Bocquet's 2D model, the analytic yardstick.",
         "Bocquet 2003, eqs. 1–3",
     ),
-    (
+    item(
         "Rosellini law",
+        "The push grows with the stone's speed and with how fast each part goes into the water; \
+         this rule gives the best angle that experiments find.",
         "Pressure C_L ρ U max(0, v_n) S on faces advancing into the water; it alone puts the \
          minimal speed's minimum near the measured magic angle (~20°).",
         "Rosellini et al. 2005, eq. 4.2; Clanet, Hersen & Bocquet 2004",
     ),
-    (
+    item(
         "Ventilated",
+        "Only the front of the stone pushes on water; behind it there is a pocket of air.",
         "Only faces advancing into the water get pressure and friction; the rear sits in an \
          air-filled cavity (off: every wetted face, as printed in the paper).",
         "Clanet et al. 2004; the paper",
     ),
-    (
-        "Rotation",
-        "Locked holds the attitude fixed (the paper's high-spin limit); Free makes the stone a \
-         rigid body with torque, spin and gyroscopic stability.",
-        "the paper (future work); Rosellini et al. 2005",
+    item(
+        "Buoyancy",
+        "Water also holds up whatever is in it, a little, the deeper the more.",
+        "Hydrostatic pressure ρ g d on each loaded face, d the depth of its wetted centroid: \
+         Archimedes' force, exact on planar faces.",
+        "Archimedes; Savitsky 1964 (buoyant lift of planing)",
     ),
-    (
+    item(
+        "Water's lag",
+        "The water under a fast stone needs a moment to rise, and that delay helps a fast stone \
+         bounce again instead of sliding.",
+        "The wetted patch follows the stone's motion late by about twice the time the water \
+         takes to pass under the patch. Going in, less of the stone is wet than its depth says; \
+         coming out, more. That delay feeds each bounce, so a fast stone keeps skipping instead \
+         of gliding, and a slow one settles into a glide and sinks. The stone touches the lake's \
+         own surface (flat water or its swell), never its own rings, so a throw's skips do not \
+         change with the tick, the cells or the mesh.",
+        "Wagner 1932; Hewitt et al. 2011; docs/studies/wagner_lag; docs/studies/whole_throw",
+    ),
+    item(
         "Integrators",
+        "The simulator moves the stone in tiny steps of time; steps that are too long make the \
+         bounces wrong.",
         "Paper (Euler velocity, trapezoid position), symplectic Euler and RK4 take fixed ticks; \
          Adaptive flies exactly, locates contact entry by root finding and controls its error in \
          contact. A fixed step that is too long makes bounces gain energy (the app warns).",
         "the paper, eqs. 30–38; docs/studies/stability",
     ),
-    (
+    item(
         "Outcome",
-        "Sank when the whole underside is below the surface, and why, read at its last touch: \
-         too slow to skip, sank after its last skip (slowed too much), dug in nose-down (tilt \
-         below zero), landed on its edge (bank over 20°), or came in too steep (over 45° down). \
-         Still going at the time limit; diverged when the numbers stop being finite. On the \
-         ambient water the lake is a window of rings and the stone flies on past it; only with \
-         wavy contact does the lake's edge end a throw (not a result). A skip is a contact that \
-         ends with the stone wholly in the air and a flight at least as long as the stone.",
+        "A throw ends when the stone sinks, and the app says why, from how it met the water the \
+         last time.",
+        "Sank when the whole underside is below the surface: too slow to skip, sank after its \
+         last skip (slowed too much), dug in nose-down (tilt below zero), landed on its edge \
+         (bank over 20°), or came in too steep (over 45° down). Still going at the time limit; \
+         diverged when the numbers stop being finite. On the ambient water the lake is a window \
+         of rings and the stone flies on past it; only with wavy contact does the lake's edge end \
+         a throw (not a result).",
         "Bocquet 2003 (loss of lift); design §4",
     ),
-    (
+    item(
+        "A skip",
+        "A skip is a bounce you can see: the stone leaves the water and flies at least its own \
+         width before it lands again.",
+        "A touch followed by a flight at least as long as the stone. Touches closer together \
+         belong to one contact, listed in its touches column, as a person counting a throw from \
+         the bank would count them.",
+        "design §4; docs/studies/whole_throw",
+    ),
+    item(
         "Peak g",
+        "Peak g says how hard the water pushed the stone up, compared with its weight.",
         "The water's largest upward push in a contact over the stone's weight (the contact \
          table's last column, the lift plot). A spun disc in Tang et al.'s tank bounced only \
          above 3.8 g; the model has no such rule, but a first contact at the slowest speed that \
          still skips peaks at 3–8 g.",
         "Tang et al. 2021; docs/studies/fidelity §12",
     ),
-    (
+    item(
         "Water",
+        "The lake is a grid of thin columns of water that pass water to their neighbours, so \
+         rings spread out where the stone lands.",
         "Columns on a square grid joined by pipes with one signed flow each (4 or 8 pipes, \
          isotropic areas); flows first, then volumes from the new flows.",
         "O'Brien & Hodgins 1995",
     ),
-    (
+    item(
         "Limiter",
+        "No column can give away more water than it holds, so no water appears or vanishes.",
         "Each column's outflows are scaled so it never gives more than it holds: mass is \
          conserved exactly (the paper's clamp, eq. 41, creates water).",
         "Mei et al. 2007; the paper, eq. 41",
     ),
-    (
+    item(
         "Coupling",
+        "The stone pushes the water as hard as the water pushes the stone, and that push makes \
+         the rings.",
         "The force the water exerts on the stone goes back to the columns under the wetted \
          triangles as pressure (Newton's third law); volume stays conserved.",
         "O'Brien & Hodgins 1995",
     ),
-    (
+    item(
         "Stability",
+        "The water takes its own small steps, short enough that its waves never blow up.",
         "The water steps on its own clock under the Courant limit c·Δt/l ≤ 1/√2 (4 pipes) or \
          √3/2 (8 pipes), c = √(gH), at 70 % of it.",
         "docs/studies/stability §B",
     ),
-    (
-        "Water's lag",
-        "The water under a fast stone takes a moment to rise beside it and to fall back, so the \
-         wetted patch follows the stone's motion a little late: by about twice the time the water \
-         takes to pass under the patch. Going in, less of the stone is wet than its depth says; \
-         coming out, more. That small delay feeds each bounce, so a fast stone keeps skipping \
-         instead of gliding, and a slow one settles into a glide and sinks (Hewitt et al. 2011). \
-         The stone touches the lake's own surface (flat water or its swell), never its own rings, \
-         so a throw's skips do not change with the tick, the cells or the mesh.",
-        "Wagner 1932; Hewitt et al. 2011; docs/studies/wagner_lag; docs/studies/whole_throw",
-    ),
-    (
+    item(
         "Wavy contact",
-        "Optional: contact against the grid's height instead of the lake's own surface, so the \
-         stone rides on the water its own pressure moves (the model the presets used before the \
-         water's lag). Not converged: results move with the cell, the depth and the tick (the \
-         columns are shallow-water waves; at the stone's scale real water is deep).",
+        "An option where the stone rides on the waves it makes itself; its results change with \
+         the grid, so trust trends, not exact counts.",
+        "Contact against the grid's height instead of the lake's own surface (the model the \
+         presets used before the water's lag). Not converged: results move with the cell, the \
+         depth and the tick (the columns are shallow-water waves; at the stone's scale real \
+         water is deep).",
         "the paper (future work); docs/studies/fidelity §9–§11",
     ),
-    (
-        "Buoyancy",
-        "Hydrostatic pressure ρ g d on each loaded face, d the depth of its wetted centroid: \
-         Archimedes' force, exact on planar faces.",
-        "Archimedes; Savitsky 1964 (buoyant lift of planing)",
-    ),
-    (
-        "Air in flight",
-        "Optional (physics.air): between contacts the air lifts, drags and pitches the stone like a \
-         spinning disc wing, C_L = C_Lα α, C_D = C_D0 + C_Dα α², C_M = C_Mα α; the nose-up moment \
-         rolls a spinning stone by M/(I₃ω) per second, so less spin, more roll. Off: the paper's \
-         vacuum.",
-        "Crowther & Potts 2007; Hummel 2003; src/sim/air.rs",
-    ),
-    (
-        "Axial spin",
-        "Smooth: the pebble stands for a smooth body of revolution, whose spin about its axis \
-         moves no water normal to its surface; the facets then neither paddle nor spin it up.",
-        "design §4; docs/studies/fidelity",
-    ),
-    (
-        "Spin",
-        "Free rotation: a contact's lift acts behind the centre and turns the spinning axis by \
-         J·ℓ/(I₃ω). A little spin lets the first contact lay the stone flatter, and a flatter \
-         stone skips more, so the default throw makes most skips at 15–25 rev/s and fewer towards \
-         the held attitude's count at high spin; without spin it dives. The curve as it is, not \
-         tuned: no measurement says more spin never costs skips.",
-        "Tang et al. 2021; Clanet et al. 2004; docs/studies/whole_throw §6",
-    ),
-    (
-        "A skip",
-        "A touch followed by a flight at least as long as the stone (a hop you can see). Touches \
-         closer together belong to one contact, listed in its touches column, as a person \
-         counting a throw from the bank would count them.",
-        "design §4; docs/studies/whole_throw",
-    ),
-    (
+    item(
         "Receding faces",
+        "A part of the stone coming out of the water is not pushed forward by it.",
         "Without ventilation the paper as printed pushes a face moving out of the water along −N \
          (energy from nowhere); read energy-consistently each face's pressure opposes its own \
          normal motion.",
@@ -305,15 +365,21 @@ pub fn about_ui(ui: &mut Ui) {
             }
             ui.separator();
             ui.label(RichText::new("The model in detail").strong().size(15.0));
-            ui.weak("Each law and option in a sentence, its sources in brackets.");
+            ui.weak(
+                "Each part of the model in one plain sentence, then the detail, its sources in \
+                 brackets.",
+            );
             ui.add_space(3.0);
-            for (topic, sentence, source) in MODEL {
+            for m in MODEL {
                 ui.horizontal_wrapped(|ui| {
-                    ui.label(RichText::new(*topic).strong());
-                    ui.label(*sentence);
-                    ui.label(RichText::new(format!("[{source}]")).italics().weak());
+                    ui.label(RichText::new(m.topic).strong());
+                    ui.label(m.plain);
                 });
-                ui.add_space(3.0);
+                ui.horizontal_wrapped(|ui| {
+                    ui.weak(m.detail);
+                    ui.label(RichText::new(format!("[{}]", m.sources)).italics().weak());
+                });
+                ui.add_space(4.0);
             }
         });
 }
@@ -342,7 +408,8 @@ mod tests {
         let plain = ABOUT_OPENING
             .iter()
             .map(|(h, p)| (*h, *p))
-            .chain(MODEL.iter().map(|(t, s, _)| (*t, *s)))
+            .chain(MODEL.iter().map(|m| (m.topic, m.plain)))
+            .chain(MODEL.iter().map(|m| (m.topic, m.detail)))
             .chain(SHORTCUTS.iter().copied());
         for (topic, text) in plain {
             assert!(
@@ -350,6 +417,31 @@ mod tests {
                 "{topic}: {text}"
             );
         }
+        // Issue 48: every item of the model in detail opens with one plain sentence: no
+        // formula, symbol or source, short enough to read at once.
+        for m in MODEL {
+            let words = m.plain.split_whitespace().count();
+            assert!(words <= 35, "{}: {words} words", m.topic);
+            assert!(m.plain.ends_with('.'), "{}", m.topic);
+            for symbol in ["=", "²", "ρ", "_", "§", "eq.", "(", "√", "Δ"] {
+                assert!(
+                    !m.plain.contains(symbol),
+                    "{}: {symbol} in {}",
+                    m.topic,
+                    m.plain
+                );
+            }
+            assert_eq!(
+                m.plain.matches(". ").count(),
+                0,
+                "{}: one sentence",
+                m.topic
+            );
+        }
+        // Spin, the sentence a teacher needs, leads what turns the stone.
+        let at = |t: &str| MODEL.iter().position(|m| m.topic == t).unwrap();
+        assert!(at("Spin") < at("Rotation") && at("Spin") < at("Axial spin"));
+        assert!(at("Spin") < at("Air in flight"));
         // Every key the app answers to is listed, Experiments' X included.
         assert!(SHORTCUTS.iter().any(|(k, _)| *k == "X"));
     }

@@ -130,7 +130,9 @@ pub fn readouts_ui(ui: &mut Ui, r: &Readouts) {
             }
             ui.end_row();
             ui.label("Outcome");
-            ui.label(r.outcome.as_deref().unwrap_or("—"));
+            // Wrapped: a long ending ("dug in nose-down at touch 2 (tilt −1.1°)") in the
+            // panel's width, not past the window's edge.
+            ui.add(egui::Label::new(r.outcome.as_deref().unwrap_or("—")).wrap());
             ui.end_row();
             if let Some(g) = r.glide {
                 ui.label("Glide").on_hover_text(
@@ -201,77 +203,127 @@ pub fn contacts_ui(ui: &mut Ui, contacts: &[ContactEvent], radius: f64, ending: 
         ui.weak("no contact yet");
         return;
     }
-    egui::ScrollArea::both()
+    ui.horizontal_wrapped(|ui| {
+        ui.spacing_mut().item_spacing.x = 6.0;
+        for (word, color) in [
+            ("skip", SKIP_GREEN),
+            ("sank", SANK_RED),
+            ("glide", GLIDE_BLUE),
+        ] {
+            ui.label(RichText::new(word).color(color).small());
+        }
+        ui.label(RichText::new("graze").weak().small());
+    });
+    // Issue 48: every column in the readouts panel's width, no sideways scroll: short headers
+    // (their meaning on hover) and no digit finer than the model means.
+    egui::ScrollArea::vertical()
         .id_salt("contacts")
         .max_height(150.0)
         .show(ui, |ui| {
             egui::Grid::new("contacts_grid")
                 .striped(true)
-                .num_columns(9)
+                .num_columns(CONTACT_COLUMNS.len())
+                // Each column as wide as its widest cell (egui's default minimum, 40 points a
+                // column, alone took the table past the panel).
+                .min_col_width(0.0)
                 .spacing([7.0, 2.0])
                 .show(ui, |ui| {
-                    for (h, tip) in [
-                        (
-                            "#",
-                            "skip: the water threw the stone back into the air; graze: a crest brushed \
-                             the stone without turning it upward (not counted); glide: a planing slide \
-                             that never left the water",
-                        ),
-                        ("ms", "duration"),
-                        (
-                            "touches",
-                            "touches of the water less than the stone's diameter apart: one contact, \
-                             since a hop you cannot see is not a skip",
-                        ),
-                        ("x (m)", "where it started"),
-                        ("slid (m)", "horizontal distance during the contact"),
-                        ("v in", "speed at the start (m/s)"),
-                        ("β in", "angle of the velocity below the horizontal at the start"),
-                        (
-                            "tilt, bank",
-                            "the stone's attitude when it met the water (°): tilt, its leading \
-                             edge up (below zero: nose-down, it digs in); bank, its roll (over \
-                             20°: on its edge)",
-                        ),
-                        (
-                            "peak g",
-                            "the water's largest upward push over the stone's weight; Tang et al. \
-                             (2021) saw a spun disc bounce only above 3.8 g",
-                        ),
-                    ] {
+                    for (h, tip) in CONTACT_COLUMNS {
                         ui.label(RichText::new(h).strong()).on_hover_text(tip);
                     }
                     ui.end_row();
                     for (i, c) in contacts.iter().enumerate() {
-                        let (mark, color) = match contact_kind(c, radius) {
-                            ContactKind::Open => ("...", ui.visuals().text_color()),
-                            ContactKind::Skip => ("skip", egui::Color32::from_rgb(140, 235, 110)),
-                            ContactKind::Graze => ("graze", ui.visuals().weak_text_color()),
-                            ContactKind::Sank => ("sank", egui::Color32::from_rgb(255, 120, 100)),
-                            ContactKind::Glide => ("glide", egui::Color32::from_rgb(120, 200, 255)),
-                        };
-                        ui.label(RichText::new(format!("{} {mark}", i + 1)).color(color))
-                            .on_hover_text(format!("began at t = {:.3} s", c.t_start));
-                        ui.monospace(format!("{:.1}", 1000.0 * (c.t_end - c.t_start)));
-                        ui.monospace(format!("{}", c.touches));
-                        ui.monospace(format!("{:.2}", c.x));
-                        ui.monospace(format!("{:.2}", slide_distance(c)));
-                        ui.monospace(format!("{:.2}", DVec3::from_array(c.v_in).length()));
-                        ui.monospace(format!("{:.1}°", c.beta_in));
-                        let tenth = |x: f64| (x * 10.0).round() / 10.0 + 0.0;
-                        ui.monospace(format!(
-                            "{:+.1}° {:+.0}°",
-                            tenth(c.attitude_in[0]),
-                            c.attitude_in[1].round() + 0.0
-                        ));
-                        ui.monospace(
-                            c.peak_g()
-                                .map_or_else(|| "—".to_owned(), |g| format!("{g:.1}")),
-                        );
+                        contact_row_ui(ui, i + 1, c, radius);
                         ui.end_row();
                     }
                 });
         });
+}
+
+/// The contacts table's colours of a skip, a contact it sank in, and a glide.
+const SKIP_GREEN: egui::Color32 = egui::Color32::from_rgb(140, 235, 110);
+const SANK_RED: egui::Color32 = egui::Color32::from_rgb(255, 120, 100);
+const GLIDE_BLUE: egui::Color32 = egui::Color32::from_rgb(120, 200, 255);
+
+/// The contacts table's headers, short enough that the table fits the readouts panel, each
+/// with what it means on hover.
+pub const CONTACT_COLUMNS: [(&str, &str); 9] = [
+    (
+        "#",
+        "the contact's number, in its kind's colour: skip, the water threw the stone back into the \
+         air; sank; graze, a crest brushed the stone without turning it upward (not counted); \
+         glide, a planing slide that never left the water",
+    ),
+    ("ms", "how long the contact lasted (ms)"),
+    (
+        "n",
+        "touches of the water less than the stone's diameter apart: one contact, since a hop you \
+         cannot see is not a skip",
+    ),
+    ("x", "where the contact started (x, m)"),
+    ("v", "speed when it met the water (m/s)"),
+    (
+        "β",
+        "angle of the velocity below the horizontal when it met the water (°)",
+    ),
+    (
+        "tilt",
+        "the stone's tilt when it met the water (°): its leading edge up; below zero it came in \
+         nose-down and digs in",
+    ),
+    (
+        "bank",
+        "the stone's bank when it met the water (°): its roll about its travel; over 20° it lands \
+         on its edge",
+    ),
+    (
+        "g",
+        "peak g: the water's largest upward push over the stone's weight; Tang et al. (2021) saw \
+         a spun disc bounce only above 3.8 g",
+    ),
+];
+
+/// One row of the contacts table: contact `number` (from 1).
+fn contact_row_ui(ui: &mut Ui, number: usize, c: &ContactEvent, radius: f64) {
+    let (mark, color) = match contact_kind(c, radius) {
+        ContactKind::Open => ("...", ui.visuals().text_color()),
+        ContactKind::Skip => ("skip", SKIP_GREEN),
+        ContactKind::Graze => ("graze", ui.visuals().weak_text_color()),
+        ContactKind::Sank => ("sank", SANK_RED),
+        ContactKind::Glide => ("glide", GLIDE_BLUE),
+    };
+    // The number in the kind's colour (the key above the table), the word on hover.
+    ui.label(RichText::new(format!("{number}")).monospace().color(color))
+        .on_hover_text(format!(
+            "{mark}: began at t = {:.3} s, slid {:.2} m",
+            c.t_start,
+            slide_distance(c)
+        ));
+    // No "-0": a value that rounds to zero prints unsigned.
+    let round = |x: f64, digits: i32| {
+        let k = 10f64.powi(digits);
+        (x * k).round() / k + 0.0
+    };
+    ui.monospace(format!("{:.0}", round(1000.0 * (c.t_end - c.t_start), 0)));
+    ui.monospace(format!("{}", c.touches));
+    ui.monospace(format!("{:.1}", round(c.x, 1)));
+    ui.monospace(format!(
+        "{:.1}",
+        round(DVec3::from_array(c.v_in).length(), 1)
+    ));
+    ui.monospace(format!("{:.0}°", round(c.beta_in, 0)));
+    let tilt = round(c.attitude_in[0], 1);
+    let tilt_text = RichText::new(format!("{tilt:+.1}°")).monospace();
+    ui.label(if tilt < 0.0 {
+        tilt_text.color(egui::Color32::from_rgb(255, 120, 100))
+    } else {
+        tilt_text
+    });
+    ui.monospace(format!("{:+.0}°", round(c.attitude_in[1], 0)));
+    ui.monospace(
+        c.peak_g()
+            .map_or_else(|| "—".to_owned(), |g| format!("{g:.1}")),
+    );
 }
 
 /// One earlier throw in the ghosts' table.

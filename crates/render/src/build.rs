@@ -11,6 +11,7 @@ use super::camera::{throw_heading, Camera, Framing};
 use super::scene::{
     Line, Marker, Scene, SceneStyle, Splash, StoneView, WaterView, SPLASH_DURATION,
 };
+use crate::sim::ending::{Ending, EDGE_BANK_DEG};
 use crate::sim::launch_arc;
 use crate::sim::params::Preset;
 use crate::sim::stone::Stone;
@@ -320,6 +321,148 @@ pub fn side_guides(framing: &Framing, contacts: &[ContactEvent], camera: &Camera
     lines
 }
 
+/// The colours of the side view's attitude glyphs: level (bank within [`BANK_LEVEL_DEG`]),
+/// banked (within [`EDGE_BANK_DEG`]), on its edge (beyond), and the touch it dug in nose-down at.
+pub const GLYPH_LEVEL_COLOR: [f32; 4] = [0.07, 0.07, 0.06, 1.0];
+pub const GLYPH_BANKED_COLOR: [f32; 4] = [0.95, 0.25, 0.0, 1.0];
+pub const GLYPH_EDGE_COLOR: [f32; 4] = [0.6, 0.0, 0.6, 1.0];
+pub const GLYPH_DUG_IN_COLOR: [f32; 4] = [0.9, 0.0, 0.0, 1.0];
+/// A bank within this (°) draws the glyph as level.
+pub const BANK_LEVEL_DEG: f64 = 10.0;
+
+/// The glyph's thickness over its diameter: a pebble's 1 : 4, thick enough to read at a few
+/// pixels (the shipped stones are thinner).
+pub const GLYPH_THICKNESS: f64 = 0.25;
+
+/// The glyph's size on screen: its diameter a share of the view's height.
+pub const GLYPH_SHARE: f32 = 0.055;
+
+/// The touch (counted from 1, as [`crate::sim::ending::Ending`] counts) where the throw dug in
+/// nose-down, if it ended so.
+pub fn dug_in_touch(sim: &Simulation) -> Option<usize> {
+    match sim.ending() {
+        Ending::NoseDown { touch, .. } => Some(touch),
+        _ => None,
+    }
+}
+
+/// The colour of a glyph for a stone that met the water banked `bank_deg`.
+pub fn glyph_color(bank_deg: f64, dug_in: bool) -> [f32; 4] {
+    if dug_in {
+        GLYPH_DUG_IN_COLOR
+    } else if bank_deg.abs() > EDGE_BANK_DEG {
+        GLYPH_EDGE_COLOR
+    } else if bank_deg.abs() > BANK_LEVEL_DEG {
+        GLYPH_BANKED_COLOR
+    } else {
+        GLYPH_LEVEL_COLOR
+    }
+}
+
+/// The outline of a stone 1 across and `thickness` thick met by the water at `tilt` and `bank`
+/// (radians, relative to travel; design §3), seen from its side: an ellipse in (along travel,
+/// up) whose long axis rises at `tilt` exactly (nose-up above zero, nose-down below), so the
+/// angle a class reads off is the tilt. A bank opens it, as a rolled disc looks rounder from the
+/// side: its short axis is the larger of `thickness` and the diameter times |sin bank|.
+pub fn side_profile(tilt: f64, bank: f64, thickness: f64) -> Vec<[f64; 2]> {
+    let (st, ct) = tilt.sin_cos();
+    let long = 0.5;
+    let short = (0.5 * thickness).max(0.5 * bank.sin().abs()).min(0.5);
+    (0..GLYPH_POINTS)
+        .map(|k| {
+            let phi = k as f64 / GLYPH_POINTS as f64 * std::f64::consts::TAU;
+            let (u, v) = (long * phi.cos(), short * phi.sin());
+            [u * ct - v * st, u * st + v * ct]
+        })
+        .collect()
+}
+
+/// Points of a glyph's outline.
+pub const GLYPH_POINTS: usize = 32;
+
+/// Where the side view draws the glyph of a contact, and how large (m along the waterline):
+/// its centre stands over the touch, on top of the touch's tick.
+pub fn glyph_centre(c: &ContactEvent, camera: &Camera) -> (Vec3, f32) {
+    let view_h = 2.0 * camera.distance * (0.5 * camera.fov_y).tan();
+    let k = camera.exaggeration.max(1e-3);
+    let size = GLYPH_SHARE * view_h;
+    // The tick's top (5 % of the view's height, see [`side_guides`]) and half a glyph more.
+    let rise = (0.05 * view_h + 0.6 * size) / k;
+    (Vec3::new(c.x as f32, c.y as f32, rise), size)
+}
+
+/// The side view's attitude glyphs: at each touch ([`glyph_touches`]), the stone as it met the
+/// water — its profile at its tilt, drawn at the true angle whatever the exaggeration (the
+/// heights of the glyph are divided by it, as the camera multiplies them), coloured by its bank
+/// ([`glyph_color`]); the touch it dug in nose-down at (`dug_in`, counted from 1) drawn in red
+/// and wider.
+pub fn attitude_glyphs(
+    framing: &Framing,
+    contacts: &[ContactEvent],
+    camera: &Camera,
+    dug_in: Option<usize>,
+) -> Vec<Line> {
+    let along = Vec3::new(framing.heading.cos(), framing.heading.sin(), 0.0);
+    let k = camera.exaggeration.max(1e-3);
+    let mut lines = Vec::new();
+    for i in glyph_touches(framing, contacts, camera, dug_in) {
+        let c = &contacts[i];
+        let [tilt, bank, _] = c.attitude_in;
+        let here = dug_in == Some(i + 1);
+        let (centre, size) = glyph_centre(c, camera);
+        let to_world = |q: [f64; 2]| {
+            centre + along * (q[0] as f32 * size) + Vec3::Z * (q[1] as f32 * size / k)
+        };
+        let outline = side_profile(tilt.to_radians(), bank.to_radians(), GLYPH_THICKNESS);
+        let color = glyph_color(bank, here);
+        let width_px = if here { 4.0 } else { 2.5 };
+        let n = outline.len();
+        lines.extend((0..n).map(|j| Line {
+            a: to_world(outline[j]),
+            b: to_world(outline[(j + 1) % n]),
+            width_px,
+            color,
+        }));
+    }
+    lines
+}
+
+/// Glyphs closer than this many glyph widths along the waterline are not both drawn.
+pub const GLYPH_GAP: f32 = 1.15;
+
+/// The contacts (indices) whose glyphs the side view draws: every touch (grazes left out) but
+/// one that would overlap the last drawn (touches closer than [`GLYPH_GAP`] glyphs apart, as the
+/// small hops at a long throw's end are seen from far); the touch it dug in at always, in place
+/// of its neighbour. Zooming in (a smaller glyph in metres) brings the others back.
+pub fn glyph_touches(
+    framing: &Framing,
+    contacts: &[ContactEvent],
+    camera: &Camera,
+    dug_in: Option<usize>,
+) -> Vec<usize> {
+    let along = Vec3::new(framing.heading.cos(), framing.heading.sin(), 0.0);
+    let mut kept: Vec<(usize, f32)> = Vec::new();
+    for (i, c) in contacts.iter().enumerate() {
+        let [tilt, bank, _] = c.attitude_in;
+        if c.graze || !(tilt.is_finite() && bank.is_finite()) {
+            continue;
+        }
+        let (centre, size) = glyph_centre(c, camera);
+        let s = (centre - framing.launch).dot(along);
+        let must = dug_in == Some(i + 1);
+        match kept.last() {
+            Some(&(_, last)) if (s - last).abs() < GLYPH_GAP * size => {
+                if must {
+                    kept.pop();
+                    kept.push((i, s));
+                }
+            }
+            _ => kept.push((i, s)),
+        }
+    }
+    kept.into_iter().map(|(i, _)| i).collect()
+}
+
 /// The aim preview: the first flight's arc from the launch until the centre of mass reaches the
 /// water (the run's own flight model: the exact parabola, or with the air's forces when the preset
 /// has them; design §4), dashed.
@@ -468,6 +611,134 @@ mod tests {
         trail.push(&sample(0.2, 1.0001, true));
         trail.push(&sample(0.2001, 1.0002, true));
         assert!(trail.points().len() > before);
+    }
+
+    /// The angle (°) of the longest chord through the outline's centre: the glyph's long axis.
+    fn long_axis_deg(pts: &[[f64; 2]]) -> f64 {
+        let far = pts
+            .iter()
+            .max_by(|p, q| p[0].hypot(p[1]).total_cmp(&q[0].hypot(q[1])))
+            .unwrap();
+        // Either end of the axis: fold to (−90°, 90°].
+        let a = far[1].atan2(far[0]).to_degrees();
+        if a > 90.0 {
+            a - 180.0
+        } else if a <= -90.0 {
+            a + 180.0
+        } else {
+            a
+        }
+    }
+
+    /// Issue 48: the glyph's long axis rises at the stone's tilt whatever its bank; a bank
+    /// only opens it (its area grows).
+    #[test]
+    fn the_glyph_is_drawn_at_the_tilt() {
+        for tilt in [-8.0f64, -1.1, 0.0, 8.4, 20.0, 45.0] {
+            for bank in [-26.0f64, 0.0, 5.0, 30.0] {
+                let pts = side_profile(tilt.to_radians(), bank.to_radians(), GLYPH_THICKNESS);
+                assert_eq!(pts.len(), GLYPH_POINTS);
+                // Half the angle between two outline points bounds the error of the sampled axis.
+                let tol = 360.0 / GLYPH_POINTS as f64;
+                let got = long_axis_deg(&pts);
+                assert!((got - tilt).abs() <= tol, "tilt {tilt} bank {bank}: {got}");
+                assert!(pts.iter().all(|p| p[0].is_finite() && p[1].is_finite()));
+            }
+        }
+        // Exactly: the first point is the nose, at the tilt.
+        let p = side_profile((-1.1f64).to_radians(), 0.0, GLYPH_THICKNESS)[0];
+        assert!((p[1].atan2(p[0]).to_degrees() + 1.1).abs() < 1e-9);
+        let width = |b: f64| {
+            let pts = side_profile(0.0, b.to_radians(), GLYPH_THICKNESS);
+            pts.iter().map(|p| p[1]).fold(f64::MIN, f64::max)
+        };
+        assert!(width(40.0) > 1.5 * width(0.0));
+        assert_eq!(width(0.0), width(5.0));
+    }
+
+    /// Issue 48: the side view's vertical exaggeration does not bend the glyphs: at ×1, ×5, ×10
+    /// and ×20 a touch's glyph points, on screen, at the stone's tilt (within a degree: the side
+    /// camera's narrow perspective).
+    #[test]
+    fn exaggeration_leaves_the_glyphs_angle_true() {
+        let mut sim = Simulation::new(&Preset::default()).unwrap();
+        while sim.contacts().len() < 2 && sim.time() < 5.0 {
+            sim.tick();
+        }
+        let mut c = sim.contacts()[1];
+        c.attitude_in = [-12.0, 0.0, 0.0];
+        let trail = Trail::new();
+        let framing = framing_of(&sim, &trail, None);
+        let (w, h) = (1280u32, 720u32);
+        for k in [1.0f32, 5.0, 10.0, 20.0] {
+            let lo = framing.bounds.0;
+            let hi = framing.bounds.1;
+            let cam = Camera::side_view(lo, hi, framing.heading, w as f32 / h as f32, k);
+            let lines = attitude_glyphs(&framing, &[c], &cam, None);
+            assert_eq!(lines.len(), GLYPH_POINTS);
+            // The nose (first point) and the tail (half way round).
+            let nose = cam.project(lines[0].a, w, h).unwrap();
+            let tail = cam.project(lines[GLYPH_POINTS / 2].a, w, h).unwrap();
+            let on_screen = (tail.y - nose.y).atan2(nose.x - tail.x).to_degrees();
+            assert!((on_screen + 12.0).abs() < 1.0, "×{k}: {on_screen}°");
+            // A glyph a class can see: tens of pixels across.
+            assert!(
+                nose.distance(tail) > 20.0,
+                "×{k}: {} px",
+                nose.distance(tail)
+            );
+        }
+    }
+
+    /// Touches too close to tell apart at the view's scale share one glyph; the touch a throw
+    /// dug in at is always drawn.
+    #[test]
+    fn close_touches_share_a_glyph_and_the_dug_in_one_is_always_drawn() {
+        let mut sim = Simulation::new(&Preset::default()).unwrap();
+        while sim.contacts().is_empty() && sim.time() < 5.0 {
+            sim.tick();
+        }
+        let c = sim.contacts()[0];
+        let trail = Trail::new();
+        let framing = framing_of(&sim, &trail, None);
+        let cam = Camera::side_view(
+            Vec3::ZERO,
+            Vec3::new(200.0, 0.0, 0.3),
+            framing.heading,
+            16.0 / 9.0,
+            10.0,
+        );
+        let (_, size) = glyph_centre(&c, &cam);
+        let at = |x: f64| ContactEvent { x, ..c };
+        let far = 2.0 * size as f64;
+        let near = 0.3 * size as f64;
+        let touches = [
+            at(10.0),
+            at(10.0 + near),
+            at(10.0 + far),
+            at(10.0 + far + near),
+        ];
+        assert_eq!(glyph_touches(&framing, &touches, &cam, None), vec![0, 2]);
+        assert_eq!(glyph_touches(&framing, &touches, &cam, Some(4)), vec![0, 3]);
+        // Close in, every touch has its own.
+        let close = Camera::side_view(
+            Vec3::ZERO,
+            Vec3::new(0.5, 0.0, 0.3),
+            framing.heading,
+            16.0 / 9.0,
+            10.0,
+        );
+        let small: Vec<ContactEvent> = (0..4).map(|k| at(k as f64 * near)).collect();
+        assert_eq!(glyph_touches(&framing, &small, &close, None).len(), 4);
+    }
+
+    /// The glyph of the touch a throw dug in at is the red one; the others are coloured by bank.
+    #[test]
+    fn the_dug_in_touch_is_red_and_banks_have_colours() {
+        assert_eq!(glyph_color(0.0, true), GLYPH_DUG_IN_COLOR);
+        assert_eq!(glyph_color(-3.0, false), GLYPH_LEVEL_COLOR);
+        assert_eq!(glyph_color(15.0, false), GLYPH_BANKED_COLOR);
+        assert_eq!(glyph_color(-26.0, false), GLYPH_EDGE_COLOR);
     }
 
     #[test]

@@ -10,6 +10,7 @@
 pub mod build;
 pub mod camera;
 pub mod gpu;
+pub mod legend;
 pub mod mesh;
 pub mod offscreen;
 pub mod passes;
@@ -115,6 +116,13 @@ impl SimulatedScene {
             scene
                 .lines
                 .extend(build::side_guides(&framing, self.sim.contacts(), &camera));
+            let dug_in = build::dug_in_touch(&self.sim);
+            scene.lines.extend(build::attitude_glyphs(
+                &framing,
+                self.sim.contacts(),
+                &camera,
+                dug_in,
+            ));
         }
         scene
     }
@@ -145,6 +153,28 @@ pub fn render_image(
     time: f64,
     view: PictureView,
 ) -> Result<image::RgbaImage, RenderError> {
+    render_with(preset, (width, height), time, view, false)
+}
+
+/// [`render_image`] with the legend and scale in a strip under it ([`legend`]): the picture
+/// `stoneskip render` writes, taller than `height` by the strip.
+pub fn render_picture(
+    preset: &Preset,
+    width: u32,
+    height: u32,
+    time: f64,
+    view: PictureView,
+) -> Result<image::RgbaImage, RenderError> {
+    render_with(preset, (width, height), time, view, true)
+}
+
+fn render_with(
+    preset: &Preset,
+    (width, height): (u32, u32),
+    time: f64,
+    view: PictureView,
+    with_legend: bool,
+) -> Result<image::RgbaImage, RenderError> {
     if width == 0 || height == 0 || width > offscreen::MAX_SIDE || height > offscreen::MAX_SIDE {
         return Err(RenderError::Size { width, height });
     }
@@ -155,10 +185,23 @@ pub fn render_image(
     let mut off = Offscreen::new()?;
     let aspect = width as f32 / height as f32;
     let scene = state.scene_for_view(SceneStyle::default(), view.view, view.exaggeration, aspect);
-    off.render(&scene, width, height)
+    let mut img = off.render(&scene, width, height)?;
+    if with_legend {
+        let framing = build::framing_of(&state.sim, &state.trail, None);
+        let legend = legend::legend_of(
+            &state.sim,
+            view.view,
+            &scene.camera,
+            &framing,
+            (width, height),
+        );
+        img = legend::with_legend(&img, &legend);
+    }
+    Ok(img)
 }
 
-/// `stoneskip render`: the scene at `time` offscreen, written as an 8-bit RGBA PNG.
+/// `stoneskip render`: the scene at `time` offscreen with its legend ([`render_picture`]),
+/// written as an 8-bit RGBA PNG.
 pub fn render_to_png(
     preset: &Preset,
     out: &Path,
@@ -167,7 +210,7 @@ pub fn render_to_png(
     time: f64,
     view: PictureView,
 ) -> Result<(), RenderError> {
-    let img = render_image(preset, width, height, time, view)?;
+    let img = render_picture(preset, width, height, time, view)?;
     img.save_with_format(out, image::ImageFormat::Png)
         .map_err(RenderError::from)
 }
