@@ -415,8 +415,9 @@ impl Landing {
 /// last landing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Attitude {
-    #[default]
     FirstTilt,
+    /// The landing the throw ended at, for one that sank: what decided its ending.
+    #[default]
     LastTilt,
     FirstBank,
     LastBank,

@@ -21,7 +21,7 @@ fn attitude_choice_ui(ui: &mut Ui) -> Attitude {
     let id = egui::Id::unique("experiment attitude");
     let mut choice: Attitude = ui.data(|d| d.get_temp(id)).unwrap_or_default();
     ui.horizontal(|ui| {
-        let label = ui.weak("Attitude chart").id;
+        let label = ui.weak("Attitude").id;
         egui::ComboBox::from_id_salt("experiment attitude chart")
             .selected_text(choice.name())
             .show_ui(ui, |ui| {
@@ -113,12 +113,12 @@ fn map_results_ui(
     height: f32,
     actions: &mut Vec<Action>,
 ) {
-    let table_width = 300.0_f32.min(0.3 * ui.available_width());
+    let table_width = 260.0_f32.min(0.3 * ui.available_width());
     let legend_width = 110.0;
     let plot_height = (height - 40.0).max(80.0);
-    // As square as the height allows, cells about as wide as tall.
-    let width = (ui.available_width() - table_width - legend_width - 24.0)
-        .min(plot_height * 1.6)
+    // What the row leaves, up to cells three times as wide as tall.
+    let width = (ui.available_width() - table_width - legend_width - 30.0)
+        .min(plot_height * 3.0)
         .max(160.0);
     ui.vertical(|ui| {
         let y = e.second.map_or("", |s| s.knob.name());
@@ -150,8 +150,9 @@ fn charts_ui(
 ) {
     // The charts share the value along x; it is named once, above them (an axis label under
     // each would crowd out the tick numbers).
-    let table_width = 280.0_f32.min(0.3 * ui.available_width());
-    let chart_width = ((ui.available_width() - table_width - 36.0) / 3.0).max(120.0);
+    // The table keeps room for its Watch buttons and the ending's first words.
+    let table_width = 320.0_f32.min(0.34 * ui.available_width());
+    let chart_width = ((ui.available_width() - table_width - 60.0) / 3.0).max(120.0);
     let size = egui::vec2(chart_width, (height - 56.0).max(80.0));
     let against = format!(
         "against {} ({}), \"{}\"",
@@ -169,13 +170,18 @@ fn charts_ui(
         ("Distance", "distance (m)", DISTANCE, |p| Some(p.distance)),
     ] {
         ui.vertical(|ui| {
-            ui.weak(format!("{name} {against}"));
+            // Each column as wide as its chart: a long title is cut (whole on hover).
+            ui.set_width(size.x);
+            let title = format!("{name} {against}");
+            ui.add(egui::Label::new(RichText::new(&title).weak()).truncate())
+                .on_hover_text(title);
             if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), &value, size) {
                 actions.push(Action::LoadExperimentPoint(i));
             }
         });
     }
     ui.vertical(|ui| {
+        ui.set_width(size.x);
         let attitude = attitude_choice_ui(ui);
         let value = move |p: &Point| attitude.of(p);
         let series = (attitude.name(), "degrees", ATTITUDE);
@@ -515,7 +521,7 @@ fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Ve
     let cell = |ui: &mut Ui, width: f32, text: RichText| {
         ui.add_sized([width, 16.0], egui::Label::new(text).truncate())
     };
-    let value_width = 62.0;
+    let value_width = if e.second.is_some() { 48.0 } else { 62.0 };
     ui.horizontal(|ui| {
         for k in &knobs {
             cell(
@@ -525,8 +531,8 @@ fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Ve
             )
             .on_hover_text(format!("{} ({})", k.name(), k.unit()));
         }
-        cell(ui, 36.0, RichText::new("skips").strong());
-        cell(ui, 64.0, RichText::new("distance (m)").strong());
+        cell(ui, 32.0, RichText::new("skips").strong());
+        cell(ui, 52.0, RichText::new("distance (m)").strong()).on_hover_text("distance (m)");
         ui.add_space(48.0);
         ui.strong("ending");
     });
@@ -554,8 +560,8 @@ fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Ve
                     if let Some(y) = p.second {
                         cell(ui, value_width, text(format!("{y}")));
                     }
-                    cell(ui, 36.0, text(p.skips.to_string()));
-                    cell(ui, 64.0, text(format!("{:.2}", p.distance)));
+                    cell(ui, 32.0, text(p.skips.to_string()));
+                    cell(ui, 52.0, text(format!("{:.2}", p.distance)));
                     // Watch before the ending, whose words may run past the panel's edge
                     // (shown whole on hover).
                     if ui

@@ -272,12 +272,9 @@ pub fn legend_ui(ui: &mut Ui, e: &Experiment) {
             ui.small(words);
         });
     };
-    // About five steps from the most down to one, whole numbers.
-    let step = max.div_ceil(5).max(1);
-    let mut levels: Vec<usize> = (1..=max).rev().step_by(step).collect();
-    if levels.last() != Some(&1) {
-        levels.push(1);
-    }
+    // The most, the middle and one: the scale's ends and middle, so the legend stays short.
+    let mut levels = vec![max, max.div_ceil(2), 1];
+    levels.dedup();
     for s in levels {
         swatch(ui, skips_color(s, max), false, format!("{s}"));
     }
