@@ -65,10 +65,6 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
             count,
             ..experiments::Spec::suggested(knob)
         };
-        if let Some((from, to)) = options.experiment_range {
-            model.experiment_draft.from = from;
-            model.experiment_draft.to = to;
-        }
         // A map: both sides over their map ranges, so many values a side.
         if let Some((second, n)) = options.experiment_map {
             let side = |k, n: usize| experiments::Spec {
@@ -77,6 +73,10 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
             };
             model.experiment_draft = side(knob, count);
             model.experiment_second = Some(side(second, n));
+        }
+        if let Some((from, to)) = options.experiment_range {
+            model.experiment_draft.from = from;
+            model.experiment_draft.to = to;
         }
         model.handle(crate::ui::Action::RunExperiment);
     }
