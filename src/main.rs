@@ -13,6 +13,7 @@ use stoneskip::preset;
 use stoneskip::report::{json_summary, text_summary, CsvWriter};
 use stoneskip::sim::params::Preset;
 use stoneskip::sim::{Simulation, StepSample};
+use stoneskip::sweep::{Knob, Plan, Spec, MAX_SIDE, MAX_THROWS};
 
 #[derive(Parser)]
 #[command(
@@ -55,20 +56,28 @@ enum Command {
         #[arg(long)]
         step_water: bool,
     },
-    /// Throws a preset many times, changing one launch value from one number to another, and
-    /// writes the results as a CSV table: the same table the app's Experiments panel exports.
+    /// Throws a preset many times, changing one launch value from one number to another (or two
+    /// values, every one with every other: a map), and writes the results as a CSV table: the
+    /// same table the app's Experiments panel exports.
     ///
     /// Each throw runs headless, like `simulate`, on every core of the machine. The table has
-    /// one row per throw: the value, the skips, the distance (m), how the throw ended in words,
-    /// whether that is a result of the throw (no: the lake's edge or the time limit stopped
-    /// it), and the work it took. Lines starting with # say what was swept and on which preset.
+    /// one row per throw: the value (and the second value), the skips, the distance (m), how the
+    /// throw ended in words, whether that is a result of the throw (no: the lake's edge or the
+    /// time limit stopped it), the work it took, and the stone's tilt and bank (degrees) when it
+    /// met the water first and last. Lines starting with # say what was swept and on which
+    /// preset.
     ///
     /// Example: stoneskip sweep --preset magic_angle --vary tilt --from 0 --to 45 --count 46
+    ///
+    /// A map, Clanet's phase diagram: stoneskip sweep --preset clanet_disc --vary tilt --from 0
+    /// --to 45 --count 10 --vary2 impact_angle --from2 5 --to2 60 --count2 12
     Sweep {
         /// A preset file (RON), or a shipped preset's name (see `simulate --help`).
         #[arg(long)]
         preset: PathBuf,
-        /// What to change: speed (m/s), tilt (degrees), spin (rev/s), height (m) or mass (kg).
+        /// What to change: speed (m/s), tilt (degrees), impact_angle (degrees: how steeply the
+        /// stone comes down onto the water; the throw then starts at the water), spin (rev/s),
+        /// height (m) or mass (kg).
         #[arg(long)]
         vary: String,
         /// The first value, in the unit above (default: a range worth trying first, e.g. tilt
@@ -79,9 +88,24 @@ enum Command {
         #[arg(long)]
         to: Option<f64>,
         /// How many throws, both ends included (2 to 200; default: a round step, e.g. every
-        /// degree of tilt).
+        /// degree of tilt). With a second value: how many values of the first, 2 to 20
+        /// (default: a round step, e.g. tilt from 0 to 45 degrees every 5).
         #[arg(long)]
         count: Option<usize>,
+        /// A second value to change, for a map: every value of the first is thrown with every
+        /// value of the second (the same names as --vary; not the same one twice, and not
+        /// height with impact_angle).
+        #[arg(long)]
+        vary2: Option<String>,
+        /// The second value's first number.
+        #[arg(long, requires = "vary2")]
+        from2: Option<f64>,
+        /// The second value's last number.
+        #[arg(long, requires = "vary2")]
+        to2: Option<f64>,
+        /// How many values of the second, 2 to 20 (at most 400 throws in all).
+        #[arg(long, requires = "vary2")]
+        count2: Option<usize>,
         /// The CSV file to write (default: print the table).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -165,26 +189,43 @@ fn run() -> Result<()> {
             from,
             to,
             count,
+            vary2,
+            from2,
+            to2,
+            count2,
             out,
-        }) => sweep(&preset, &vary, from, to, count, out.as_deref()),
+        }) => {
+            let map = vary2.is_some();
+            let x = sweep_spec(&vary, [from, to], count, ("", map))?;
+            let y = match vary2 {
+                Some(v) => Some(sweep_spec(&v, [from2, to2], count2, ("2", map))?),
+                None => None,
+            };
+            sweep(&preset, Plan { x, y }, out.as_deref())
+        }
     }
 }
 
-/// `sweep`: the Experiments panel's table, headless, on every core.
-fn sweep(
-    path: &Path,
+/// One value of `sweep`: the knob named `vary`, its range and count, each defaulting to the
+/// suggested sweep (a map's side when `map`); `tag` is "" or "2" (which options to name in an
+/// error).
+fn sweep_spec(
     vary: &str,
-    from: Option<f64>,
-    to: Option<f64>,
+    [from, to]: [Option<f64>; 2],
     count: Option<usize>,
-    out: Option<&Path>,
-) -> Result<()> {
-    use stoneskip::sweep::{Knob, Spec, MAX_THROWS};
-    let p: Preset = preset::load_file_or_shipped(path)?;
+    (tag, map): (&str, bool),
+) -> Result<Spec> {
     let knob = Knob::parse(vary).with_context(|| {
-        format!("unknown value to vary \"{vary}\" (expected speed, tilt, spin, height or mass)")
+        format!(
+            "unknown value to vary \"{vary}\" (expected speed, tilt, impact_angle, spin, height \
+             or mass)"
+        )
     })?;
-    let suggested = Spec::suggested(knob);
+    let suggested = if map {
+        Spec::for_map(knob)
+    } else {
+        Spec::suggested(knob)
+    };
     let spec = Spec {
         knob,
         from: from.unwrap_or(suggested.from),
@@ -195,15 +236,31 @@ fn sweep(
     for (name, v) in [("--from", spec.from), ("--to", spec.to)] {
         if !(lo..=hi).contains(&v) {
             anyhow::bail!(
-                "{name} {v} is outside {}'s range, {lo} to {hi} {}",
+                "{name}{tag} {v} is outside {}'s range, {lo} to {hi} {}",
                 knob.name().to_lowercase(),
                 knob.unit()
             );
         }
     }
     if !(2..=MAX_THROWS).contains(&spec.count) {
-        anyhow::bail!("--count {} is outside 2 to {MAX_THROWS}", spec.count);
+        anyhow::bail!("--count{tag} {} is outside 2 to {MAX_THROWS}", spec.count);
     }
+    Ok(spec)
+}
+
+/// `sweep`: the Experiments panel's table, headless, on every core.
+fn sweep(path: &Path, plan: Plan, out: Option<&Path>) -> Result<()> {
+    if let Some(y) = plan.y {
+        for (name, s) in [("--count", plan.x), ("--count2", y)] {
+            if s.count > MAX_SIDE {
+                anyhow::bail!("{name} {} is over {MAX_SIDE}, a map's most a side", s.count);
+            }
+        }
+    }
+    if let Some(why) = plan.conflict() {
+        anyhow::bail!("--vary2 cannot be mapped with --vary: {why}");
+    }
+    let p: Preset = preset::load_file_or_shipped(path)?;
     p.validate()
         .with_context(|| format!("{}", path.display()))?;
     let cancel = Arc::new(AtomicBool::new(false));
@@ -213,7 +270,7 @@ fn sweep(
         let _ = ctrlc::set_handler(move || c.store(true, Ordering::SeqCst));
     }
     let started = Instant::now();
-    let points = stoneskip::sweep::run(&p, &spec, &cancel);
+    let points = stoneskip::sweep::run(&p, &plan, &cancel);
     eprintln!(
         "{} throws in {:.1} s on {} threads",
         points.len(),
@@ -224,10 +281,10 @@ fn sweep(
         Some(o) => {
             let f =
                 std::fs::File::create(o).with_context(|| format!("creating {}", o.display()))?;
-            stoneskip::sweep::write_csv(std::io::BufWriter::new(f), &p, &p, &spec, &points)
+            stoneskip::sweep::write_csv(std::io::BufWriter::new(f), &p, &p, &plan, &points)
                 .with_context(|| format!("writing {}", o.display()))
         }
-        None => stoneskip::sweep::write_csv(std::io::stdout().lock(), &p, &p, &spec, &points),
+        None => stoneskip::sweep::write_csv(std::io::stdout().lock(), &p, &p, &plan, &points),
     }
 }
 

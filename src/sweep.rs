@@ -29,6 +29,9 @@ pub mod ranges {
     pub const HEIGHT: RangeInclusive<f64> = 0.0..=5.0;
     /// kg
     pub const MASS: RangeInclusive<f64> = 0.005..=3.0;
+    /// degrees below the horizontal at the first touch: Clanet et al. (2004) measured no bounce
+    /// above about 45°; their phase diagram spans 0°–80°.
+    pub const IMPACT_ANGLE: RangeInclusive<f64> = 1.0..=80.0;
 }
 
 /// The most throws one experiment runs.
@@ -47,12 +50,17 @@ pub enum Knob {
     Height,
     /// kg.
     Mass,
+    /// Degrees: the impact angle β, the velocity's descent below the horizontal when the stone
+    /// first touches the water (Clanet et al. 2004's β). Setting it launches the throw at the
+    /// water ([`launch_at_touch`]), so the first touch comes in at exactly this angle.
+    ImpactAngle,
 }
 
 impl Knob {
-    pub const ALL: [Knob; 5] = [
+    pub const ALL: [Knob; 6] = [
         Knob::Speed,
         Knob::Tilt,
+        Knob::ImpactAngle,
         Knob::Spin,
         Knob::Height,
         Knob::Mass,
@@ -65,6 +73,7 @@ impl Knob {
             Knob::Spin => "Spin",
             Knob::Height => "Height",
             Knob::Mass => "Mass",
+            Knob::ImpactAngle => "Impact angle",
         }
     }
 
@@ -75,6 +84,7 @@ impl Knob {
             Knob::Spin => "rev/s",
             Knob::Height => "m",
             Knob::Mass => "kg",
+            Knob::ImpactAngle => "°",
         }
     }
 
@@ -86,6 +96,7 @@ impl Knob {
             Knob::Spin => ranges::SPIN,
             Knob::Height => ranges::HEIGHT,
             Knob::Mass => ranges::MASS,
+            Knob::ImpactAngle => ranges::IMPACT_ANGLE,
         };
         (*r.start(), *r.end())
     }
@@ -98,24 +109,32 @@ impl Knob {
             Knob::Spin => (0.0, 30.0),
             Knob::Height => (0.05, 1.5),
             Knob::Mass => (0.02, 0.5),
+            Knob::ImpactAngle => (2.0, 60.0),
         }
     }
 
     /// Throws over [`Knob::suggested`]: a round step (1 m/s … 0.5 m/s, 1°, 1 rev/s, 5 cm, 20 g).
     pub fn suggested_count(self) -> usize {
         match self {
-            Knob::Speed => 29,  // 1 to 15 m/s by 0.5
-            Knob::Tilt => 46,   // 0 to 45° by 1
-            Knob::Spin => 31,   // 0 to 30 rev/s by 1
-            Knob::Height => 30, // 0.05 to 1.5 m by 0.05
-            Knob::Mass => 25,   // 0.02 to 0.5 kg by 0.02
+            Knob::Speed => 29,       // 1 to 15 m/s by 0.5
+            Knob::Tilt => 46,        // 0 to 45° by 1
+            Knob::Spin => 31,        // 0 to 30 rev/s by 1
+            Knob::Height => 30,      // 0.05 to 1.5 m by 0.05
+            Knob::Mass => 25,        // 0.02 to 0.5 kg by 0.02
+            Knob::ImpactAngle => 30, // 2 to 60° by 2
         }
     }
 
-    /// The knob named `name` (its name or unit tag, any case: "tilt", "Speed").
+    /// The knob named `name` (its name, any case, a space or `_` or `-` between words:
+    /// "tilt", "Speed", "impact_angle").
     pub fn parse(name: &str) -> Option<Knob> {
-        let n = name.trim().to_lowercase();
+        let n = name.trim().to_lowercase().replace(['_', '-'], " ");
         Knob::ALL.into_iter().find(|k| k.name().to_lowercase() == n)
+    }
+
+    /// The name in a CSV column or on the command line: "impact_angle".
+    pub fn snake(self) -> String {
+        self.name().to_lowercase().replace(' ', "_")
     }
 
     /// The CSV column's unit tag ("deg", "m_s").
@@ -132,11 +151,16 @@ impl Knob {
             Knob::Spin => p.launch.spin / TAU,
             Knob::Height => p.launch.position[2],
             Knob::Mass => p.stone.mass,
+            // The launch's descent: the first touch's when the launch is at the water, as
+            // `set` makes it.
+            Knob::ImpactAngle => (-v[2]).atan2(v[0].hypot(v[1])).to_degrees(),
         }
     }
 
     /// `p` with this value set to `value` (clamped to [`Knob::range`]); a speed keeps the launch
-    /// direction (straight ahead when the preset's speed is zero).
+    /// direction (straight ahead when the preset's speed is zero); an impact angle keeps the
+    /// speed and the heading and moves the launch to the water ([`launch_at_touch`]: the height
+    /// is then the touch's, so set the tilt or the stone before it, never the height after).
     pub fn set(self, p: &Preset, value: f64) -> Preset {
         let (lo, hi) = self.range();
         let x = value.clamp(lo, hi);
@@ -151,9 +175,66 @@ impl Knob {
             Knob::Spin => q.launch.spin = x * TAU,
             Knob::Height => q.launch.position[2] = x,
             Knob::Mass => q.stone.mass = x,
+            Knob::ImpactAngle => launch_at_touch(&mut q, x.to_radians()),
         }
         q
     }
+}
+
+/// The gap (m) between the stone's lowest point and the water at an impact-angle launch
+/// ([`launch_at_touch`]): the literature's state at impact (design.md §8).
+pub const TOUCH_GAP: f64 = crate::sim::scenario::IMPACT_CLEARANCE;
+
+/// Makes `p`'s launch a throw at impact: the velocity keeps its speed and horizontal heading and
+/// comes down at `beta` (rad) below the horizontal, and the stone, in its launch attitude, is
+/// lowered until its lowest point is [`TOUCH_GAP`] above the still water (x and y unchanged).
+///
+/// Why at the water and not a launch aimed from the hand's height: from a height h a stone
+/// arrives at least atan(√(2gh)/U) steep (11° from 30 cm at 12 m/s), so a map of impact angles
+/// would leave its shallow rows out; and with the air on, the flight is no parabola, so an aimed
+/// launch would need a root solve per cell that holds to its tolerance only. At the water the
+/// descent changes only while the lowest point falls the gap: in t ≤ gap/(U sin β) gravity and
+/// the air (less than gravity while the stone still falls) change it by less than
+/// 2g·gap/(U² sin β) rad — under 10⁻³° at 1 m/s and 5°. The lowest point is the one the
+/// simulation tests (the smooth lens's, or the mesh's in the frame it meets the water in).
+/// A stone that cannot be built leaves `p` as it is (its run then says why).
+pub fn launch_at_touch(p: &mut Preset, beta: f64) {
+    use crate::sim::params::{AxialSpin, Rotation};
+    use glam::{DQuat, DVec3};
+    let v = DVec3::from_array(p.launch.velocity);
+    let speed = v.length();
+    let heading = if v.x == 0.0 && v.y == 0.0 {
+        p.launch.attitude.heading_deg.to_radians()
+    } else {
+        v.y.atan2(v.x)
+    };
+    let dir = DVec3::new(
+        beta.cos() * heading.cos(),
+        beta.cos() * heading.sin(),
+        -beta.sin(),
+    );
+    let velocity = dir * speed;
+    p.launch.velocity = velocity.to_array();
+    let Ok(stone) = crate::sim::stone::Stone::new(&p.stone) else {
+        return;
+    };
+    let mut q = crate::sim::stone::orientation_from_attitude(&p.launch.attitude);
+    // `axial_spin: Resal` on a free mesh of revolution meets the water in the frame turned
+    // about the axis to face the flow (`integrate::mesh_orientation`).
+    let ph = &p.physics;
+    if ph.axial_spin == AxialSpin::Resal
+        && ph.rotation == Rotation::Free
+        && stone.shape.is_revolution()
+        && stone.smooth.is_none()
+    {
+        let vb = q.inverse() * velocity;
+        if vb.x != 0.0 || vb.y != 0.0 {
+            q *= DQuat::from_rotation_z(vb.y.atan2(vb.x));
+        }
+    }
+    let lowest =
+        crate::sim::hydro::lowest_clearance(&stone, DVec3::ZERO, q, &crate::sim::law::FlatSurface);
+    p.launch.position[2] = TOUCH_GAP - lowest;
 }
 
 /// What to sweep: `knob` from `from` to `to` in `count` evenly spaced throws.
@@ -177,6 +258,25 @@ impl Spec {
         }
     }
 
+    /// A map's side of `knob` worth trying first: the suggested range in 2 to [`MAX_SIDE`]
+    /// round steps (tilt 0–45° by 5°, impact angle 5–60° by 5°, speed 1–15 m/s by 1).
+    pub fn for_map(knob: Knob) -> Self {
+        let (from, to, count) = match knob {
+            Knob::Speed => (1.0, 15.0, 15),
+            Knob::Tilt => (0.0, 45.0, 10),
+            Knob::ImpactAngle => (5.0, 60.0, 12),
+            Knob::Spin => (0.0, 30.0, 16),
+            Knob::Height => (0.1, 1.5, 15),
+            Knob::Mass => (0.02, 0.5, 13),
+        };
+        Self {
+            knob,
+            from,
+            to,
+            count,
+        }
+    }
+
     /// The values thrown, in order (ends included; clamped to the knob's range; 2 to
     /// [`MAX_THROWS`] of them).
     pub fn values(&self) -> Vec<f64> {
@@ -191,10 +291,90 @@ impl Spec {
     }
 }
 
+/// The most values along each side of a two-value map: 20 × 20 = 400 throws.
+pub const MAX_SIDE: usize = 20;
+
+/// An experiment: one value swept (`y: None`), or two on a grid (a map: every `x` with every
+/// `y`, each side 2 to [`MAX_SIDE`] values).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plan {
+    pub x: Spec,
+    pub y: Option<Spec>,
+}
+
+impl From<Spec> for Plan {
+    fn from(x: Spec) -> Self {
+        Self { x, y: None }
+    }
+}
+
+impl Plan {
+    /// The values along x (a map's side holds at most [`MAX_SIDE`]).
+    pub fn x_values(&self) -> Vec<f64> {
+        match self.y {
+            None => self.x.values(),
+            Some(_) => side(&self.x).values(),
+        }
+    }
+
+    /// The values along y (none for one value).
+    pub fn y_values(&self) -> Vec<f64> {
+        self.y.map_or(Vec::new(), |y| side(&y).values())
+    }
+
+    /// Every throw's values, in the table's order: x by x, and for each x every y.
+    pub fn cells(&self) -> Vec<(f64, Option<f64>)> {
+        let ys = self.y_values();
+        self.x_values()
+            .into_iter()
+            .flat_map(|x| {
+                let one = ys.is_empty().then_some((x, None));
+                one.into_iter().chain(ys.iter().map(move |&y| (x, Some(y))))
+            })
+            .collect()
+    }
+
+    /// Why the two values cannot be mapped together, in words; `None` when they can.
+    pub fn conflict(&self) -> Option<String> {
+        let y = self.y?;
+        if y.knob == self.x.knob {
+            return Some(format!("{} is already the first value", y.knob.name()));
+        }
+        let pair = [self.x.knob, y.knob];
+        (pair.contains(&Knob::ImpactAngle) && pair.contains(&Knob::Height)).then(|| {
+            "an impact angle launches the stone at the water, so the height is not free to vary"
+                .to_owned()
+        })
+    }
+
+    /// The preset of the throw at `(x, y)`: `base` with both values set, an impact angle last
+    /// (it launches at the water in the attitude and stone the other value set).
+    pub fn preset(&self, base: &Preset, (x, y): (f64, Option<f64>)) -> Preset {
+        let Some((sy, y)) = self.y.zip(y) else {
+            return self.x.knob.set(base, x);
+        };
+        if self.x.knob == Knob::ImpactAngle {
+            self.x.knob.set(&sy.knob.set(base, y), x)
+        } else {
+            sy.knob.set(&self.x.knob.set(base, x), y)
+        }
+    }
+}
+
+/// `s` with its count held to a map's side.
+fn side(s: &Spec) -> Spec {
+    Spec {
+        count: s.count.min(MAX_SIDE),
+        ..*s
+    }
+}
+
 /// One throw's result.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Point {
     pub value: f64,
+    /// A map's second value (`None` in a one-value sweep).
+    pub second: Option<f64>,
     pub skips: usize,
     /// m, along the ground from the launch point to where it ended.
     pub distance: f64,
@@ -206,41 +386,109 @@ pub struct Point {
     pub result: bool,
     /// Force evaluations it took (what it cost).
     pub force_evals: u64,
+    /// The stone's attitude relative to its travel when it met the water first and last (the
+    /// first and the last contact's start; `None`: it never touched).
+    pub first_landing: Option<Landing>,
+    pub last_landing: Option<Landing>,
 }
 
-/// The presets a sweep throws, in value order: `base` with the knob set to each value.
-pub fn presets(base: &Preset, spec: &Spec) -> Vec<Preset> {
-    spec.values()
+/// The stone's attitude when a contact began, relative to its travel (design.md §3): what
+/// decides whether it skips on, digs in nose-down (tilt below zero) or lands on its edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Landing {
+    /// Degrees, leading edge up (the attack angle).
+    pub tilt: f64,
+    /// Degrees, rolled about the direction of travel.
+    pub bank: f64,
+}
+
+impl Landing {
+    fn of(c: &crate::sim::ContactEvent) -> Self {
+        Self {
+            tilt: c.attitude_in[0],
+            bank: c.attitude_in[1],
+        }
+    }
+}
+
+/// What a one-value sweep charts beside skips and distance: tilt or bank, at the first or the
+/// last landing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Attitude {
+    FirstTilt,
+    /// The landing the throw ended at, for one that sank: what decided its ending.
+    #[default]
+    LastTilt,
+    FirstBank,
+    LastBank,
+}
+
+impl Attitude {
+    pub const ALL: [Attitude; 4] = [
+        Attitude::FirstTilt,
+        Attitude::LastTilt,
+        Attitude::FirstBank,
+        Attitude::LastBank,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Attitude::FirstTilt => "Tilt at the first landing",
+            Attitude::LastTilt => "Tilt at the last landing",
+            Attitude::FirstBank => "Bank at the first landing",
+            Attitude::LastBank => "Bank at the last landing",
+        }
+    }
+
+    /// Its value in `p` (°), `None` when the throw never touched the water.
+    pub fn of(self, p: &Point) -> Option<f64> {
+        let (landing, tilt) = match self {
+            Attitude::FirstTilt => (p.first_landing, true),
+            Attitude::LastTilt => (p.last_landing, true),
+            Attitude::FirstBank => (p.first_landing, false),
+            Attitude::LastBank => (p.last_landing, false),
+        };
+        landing.map(|l| if tilt { l.tilt } else { l.bank })
+    }
+}
+
+/// The presets an experiment throws, in the order of [`Plan::cells`].
+pub fn presets(base: &Preset, plan: &Plan) -> Vec<Preset> {
+    plan.cells()
         .into_iter()
-        .map(|x| spec.knob.set(base, x))
+        .map(|c| plan.preset(base, c))
         .collect()
 }
 
-/// Throws the whole sweep on rayon's pool (every core), in value order; `stop` ends it early
-/// (throws not run are left out).
-pub fn run(base: &Preset, spec: &Spec, stop: &AtomicBool) -> Vec<Point> {
-    let jobs: Vec<(f64, Preset)> = spec.values().into_iter().zip(presets(base, spec)).collect();
-    // Each point keeps the value as swept (7, not the 6.999999999999999 a speed reads back
+/// Throws the whole experiment on rayon's pool (every core), in the order of [`Plan::cells`];
+/// `stop` ends it early (throws not run are left out).
+pub fn run(base: &Preset, plan: &Plan, stop: &AtomicBool) -> Vec<Point> {
+    let jobs: Vec<((f64, Option<f64>), Preset)> =
+        plan.cells().into_iter().zip(presets(base, plan)).collect();
+    // Each point keeps the values as swept (7, not the 6.999999999999999 a speed reads back
     // from its velocity).
     let points: Vec<Option<Point>> = jobs
         .par_iter()
-        .map(|(x, p)| (!stop.load(Ordering::Relaxed)).then(|| throw(*x, p, stop)))
+        .map(|(c, p)| (!stop.load(Ordering::Relaxed)).then(|| throw(*c, p, stop)))
         .collect();
     points.into_iter().flatten().collect()
 }
 
 /// One headless throw (the water left at rest, as `simulate` does), stopped early by `stop`.
-pub fn throw(value: f64, p: &Preset, stop: &AtomicBool) -> Point {
+pub fn throw((value, second): (f64, Option<f64>), p: &Preset, stop: &AtomicBool) -> Point {
     let mut sim = match crate::sim::Simulation::new(p) {
         Ok(s) => s,
         Err(e) => {
             return Point {
                 value,
+                second,
                 skips: 0,
                 distance: 0.0,
                 outcome: format!("not thrown: {e}"),
                 result: false,
                 force_evals: 0,
+                first_landing: None,
+                last_landing: None,
             }
         }
     };
@@ -249,11 +497,14 @@ pub fn throw(value: f64, p: &Preset, stop: &AtomicBool) -> Point {
     let end = crate::sim::ending(&s);
     Point {
         value,
+        second,
         skips: s.skips,
         distance: s.distance,
         outcome: end.words(),
         result: end.is_result(),
         force_evals: s.force_evals,
+        first_landing: s.contacts.first().map(Landing::of),
+        last_landing: s.contacts.last().map(Landing::of),
     }
 }
 
@@ -296,33 +547,88 @@ pub fn differences(loaded: &Preset, base: &Preset) -> Vec<String> {
     out
 }
 
-/// Writes the sweep's table as CSV: comment lines (`#`) naming the preset, the sweep and every
-/// value of `base` that differs from `loaded`, then a header row and one row per throw (value,
-/// skips, distance to the millimetre, the ending in words, whether it is a result, the force
-/// evaluations), through the `csv` crate (quoting as needed).
+/// Writes the experiment's table as CSV: comment lines (`#`) naming the preset, the sweep and
+/// every value of `base` that differs from `loaded`, then a header row and one row per throw
+/// (the value, a map's second value, skips, distance to the millimetre, the ending in words,
+/// whether it is a result, the force evaluations, the tilt and bank at the first and last
+/// landing to 0.1°), through the `csv` crate (quoting as needed).
 pub fn write_csv<W: Write>(
     mut out: W,
     loaded: &Preset,
     base: &Preset,
-    spec: &Spec,
+    plan: &Plan,
     points: &[Point],
 ) -> Result<()> {
-    let k = spec.knob;
-    let values = spec.values();
-    let (from, to) = (values.first().copied(), values.last().copied());
+    out.write_all(csv_head(loaded, base, plan).as_bytes())
+        .context("writing the CSV")?;
+    let mut w = csv::Writer::from_writer(&mut out);
+    let column = |k: Knob| format!("{}_{}", k.snake(), k.unit_tag());
+    let mut header = vec![column(plan.x.knob)];
+    header.extend(plan.y.map(|y| column(y.knob)));
+    header.extend(
+        [
+            "skips",
+            "distance_m",
+            "ending",
+            "result",
+            "force_evals",
+            "first_tilt_deg",
+            "first_bank_deg",
+            "last_tilt_deg",
+            "last_bank_deg",
+        ]
+        .map(str::to_owned),
+    );
+    w.write_record(&header).context("writing the CSV")?;
+    // Attitudes to a tenth of a degree (what a landing's tilt means); empty: never touched.
+    let deg = |a: Attitude, p: &Point| a.of(p).map_or(String::new(), |x| format!("{x:.1}"));
+    for p in points {
+        let mut row = vec![format!("{}", p.value)];
+        if plan.y.is_some() {
+            row.push(p.second.map_or(String::new(), |y| format!("{y}")));
+        }
+        row.extend([
+            p.skips.to_string(),
+            format!("{:.3}", p.distance),
+            p.outcome.clone(),
+            if p.result { "yes" } else { "no" }.to_owned(),
+            p.force_evals.to_string(),
+            deg(Attitude::FirstTilt, p),
+            deg(Attitude::FirstBank, p),
+            deg(Attitude::LastTilt, p),
+            deg(Attitude::LastBank, p),
+        ]);
+        w.write_record(&row).context("writing the CSV")?;
+    }
+    w.flush().context("writing the CSV")?;
+    drop(w);
+    out.flush().context("writing the CSV")
+}
+
+/// The CSV's comment lines: the preset, what was swept, what differs from the preset.
+fn csv_head(loaded: &Preset, base: &Preset, plan: &Plan) -> String {
+    let range = |k: Knob, values: &[f64], spec: &Spec| {
+        format!(
+            "{} from {} to {} {}",
+            k.name().to_lowercase(),
+            values.first().copied().unwrap_or(spec.from),
+            values.last().copied().unwrap_or(spec.to),
+            k.unit(),
+        )
+    };
+    let mut what = range(plan.x.knob, &plan.x_values(), &plan.x);
+    if let Some(y) = plan.y {
+        what.push_str(&format!(" × {}", range(y.knob, &plan.y_values(), &y)));
+    }
     let mut head = format!(
         "# stoneskip sweep of the preset \"{}\"\n",
         base.name.replace(['\n', '\r', '"'], " ")
     );
     head.push_str(&format!(
-        "# {} from {} to {} {} in {} throws; distance in m along the ground from the launch point; \
-         result no: ended by a bound of the simulation (the lake's edge under wavy contact, the \
-         time limit), not by the throw\n",
-        k.name().to_lowercase(),
-        from.unwrap_or(spec.from),
-        to.unwrap_or(spec.to),
-        k.unit(),
-        values.len()
+        "# {what} in {} throws; distance in m along the ground from the launch point; result no: \
+         ended by a bound of the simulation (the lake's edge under wavy contact, the time limit), \
+         not by the throw\n",
+        plan.cells().len()
     ));
     let diffs = differences(loaded, base);
     if diffs.is_empty() {
@@ -334,32 +640,7 @@ pub fn write_csv<W: Write>(
             d.replace('\n', " ")
         ));
     }
-    out.write_all(head.as_bytes()).context("writing the CSV")?;
-    let mut w = csv::Writer::from_writer(&mut out);
-    let column = format!("{}_{}", k.name().to_lowercase(), k.unit_tag());
-    w.write_record([
-        column.as_str(),
-        "skips",
-        "distance_m",
-        "ending",
-        "result",
-        "force_evals",
-    ])
-    .context("writing the CSV")?;
-    for p in points {
-        w.write_record([
-            format!("{}", p.value),
-            p.skips.to_string(),
-            format!("{:.3}", p.distance),
-            p.outcome.clone(),
-            if p.result { "yes" } else { "no" }.to_owned(),
-            p.force_evals.to_string(),
-        ])
-        .context("writing the CSV")?;
-    }
-    w.flush().context("writing the CSV")?;
-    drop(w);
-    out.flush().context("writing the CSV")
+    head
 }
 
 fn unit_tag(k: Knob) -> &'static str {
@@ -369,6 +650,7 @@ fn unit_tag(k: Knob) -> &'static str {
         Knob::Spin => "rev_s",
         Knob::Height => "m",
         Knob::Mass => "kg",
+        Knob::ImpactAngle => "deg",
     }
 }
 
@@ -431,14 +713,23 @@ mod tests {
         };
         let points = vec![Point {
             value: 0.1,
+            second: None,
             skips: 3,
             distance: 12.345_678,
             outcome: "landed on its edge at touch 4 (bank 26°, over 20°)".into(),
             result: true,
             force_evals: 99,
+            first_landing: Some(Landing {
+                tilt: 20.04,
+                bank: -0.26,
+            }),
+            last_landing: Some(Landing {
+                tilt: -1.14,
+                bank: 26.0,
+            }),
         }];
         let mut out = Vec::new();
-        write_csv(&mut out, &loaded, &base, &spec, &points).unwrap();
+        write_csv(&mut out, &loaded, &base, &spec.into(), &points).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.starts_with("# stoneskip sweep of the preset \"Magic angle\"\n"));
         assert!(text.contains("# changed from the preset: launch.velocity"));
@@ -446,13 +737,49 @@ mod tests {
         let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
         assert_eq!(
             rows[0],
-            "mass_kg,skips,distance_m,ending,result,force_evals"
+            "mass_kg,skips,distance_m,ending,result,force_evals,first_tilt_deg,first_bank_deg,\
+             last_tilt_deg,last_bank_deg"
         );
         // The ending's comma is quoted by the writer, not replaced.
         assert_eq!(
             rows[1],
-            "0.1,3,12.346,\"landed on its edge at touch 4 (bank 26°, over 20°)\",yes,99"
+            "0.1,3,12.346,\"landed on its edge at touch 4 (bank 26°, over 20°)\",yes,99,20.0,-0.3,\
+             -1.1,26.0"
         );
+    }
+
+    /// Issue 48: an impact angle set as a launch value is the first touch's descent, exactly:
+    /// the launch is at the water, so only the fall through [`TOUCH_GAP`] changes it, by less
+    /// than 2g·gap/(U² sin β) (see [`launch_at_touch`]); the speed keeps to U within 2g·t.
+    #[test]
+    fn an_impact_angle_is_the_first_touchs_descent() {
+        let g = 9.81;
+        for (name, speed) in [("clanet_disc", 3.5), ("default", 12.0)] {
+            let base = Knob::Speed.set(&shipped(name), speed);
+            for beta in [3.0_f64, 10.0, 20.0, 45.0, 70.0] {
+                let p = Knob::ImpactAngle.set(&Knob::Tilt.set(&base, 25.0), beta);
+                assert!((Knob::ImpactAngle.get(&p) - beta).abs() < 1e-9);
+                let mut sim = crate::sim::Simulation::new(&p).unwrap();
+                while sim.contacts().is_empty() && !sim.is_finished() {
+                    sim.tick();
+                }
+                let c = sim.contacts().first().expect("a first touch");
+                let sin = beta.to_radians().sin();
+                let fall = TOUCH_GAP / (speed * sin);
+                let tol = (2.0 * g * TOUCH_GAP / (speed * speed * sin)).to_degrees() + 1e-9;
+                assert!(
+                    (c.beta_in - beta).abs() <= tol,
+                    "{name} β {beta}: touched at {}° (tolerance {tol:.1e}°)",
+                    c.beta_in
+                );
+                assert!(c.t_start <= 2.0 * fall, "{name} β {beta}: t {}", c.t_start);
+                let u = glam::DVec3::from_array(c.v_in).length();
+                assert!(
+                    (u - speed).abs() <= 2.0 * g * c.t_start + 1e-9,
+                    "{name}: {u}"
+                );
+            }
+        }
     }
 
     /// Issue 48, finding 1: where wavy contact makes the lake's edge end a throw, the sweep
@@ -465,10 +792,10 @@ mod tests {
         p.water.origin = Some([-1.0, -1.0]);
         p.water.cell = 0.05;
         let stop = AtomicBool::new(false);
-        let ambient = throw(13.5, &p, &stop);
+        let ambient = throw((13.5, None), &p, &stop);
         assert!(ambient.result, "{}", ambient.outcome);
         p.water.wavy_contact = true;
-        let wavy = throw(13.5, &p, &stop);
+        let wavy = throw((13.5, None), &p, &stop);
         assert!(!wavy.result, "{}", wavy.outcome);
         assert!(
             wavy.outcome.starts_with("left the lake"),

@@ -326,3 +326,112 @@ fn sweep_writes_the_experiments_export_byte_for_byte() {
         assert!(help.contains(words), "`{words}` missing from: {help}");
     }
 }
+
+/// Issue 48: a two-value `stoneskip sweep` (a map: every tilt with every impact angle) writes
+/// the table the Experiments panel's map exports, byte for byte, one row per throw with both
+/// values as columns; `--help` names the second value in plain words, and a pair that cannot be
+/// mapped gets one clear message.
+#[cfg(feature = "app")]
+#[test]
+fn a_two_value_sweep_writes_the_maps_export_byte_for_byte() {
+    use stoneskip::app::experiments::Experiment;
+    use stoneskip::sweep::{Knob, Plan, Spec};
+    let dir = tempfile::tempdir().unwrap();
+    let cli = dir.path().join("cli.csv");
+    let out = stoneskip(&[
+        "sweep",
+        "--preset",
+        "clanet_disc",
+        "--vary",
+        "tilt",
+        "--from",
+        "10",
+        "--to",
+        "30",
+        "--count",
+        "2",
+        "--vary2",
+        "impact_angle",
+        "--from2",
+        "10",
+        "--to2",
+        "60",
+        "--count2",
+        "3",
+        "--out",
+        cli.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let base = stoneskip::preset::shipped("clanet_disc").unwrap().unwrap();
+    let plan = Plan {
+        x: Spec {
+            knob: Knob::Tilt,
+            from: 10.0,
+            to: 30.0,
+            count: 2,
+        },
+        y: Some(Spec {
+            knob: Knob::ImpactAngle,
+            from: 10.0,
+            to: 60.0,
+            count: 3,
+        }),
+    };
+    let mut e = Experiment::start(&base, &base, plan);
+    let t0 = std::time::Instant::now();
+    while !e.finished() {
+        assert!(
+            t0.elapsed().as_secs() < 300,
+            "the panel's map did not finish"
+        );
+        e.poll();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let panel = dir.path().join("panel.csv");
+    e.write_csv(&panel).unwrap();
+    let (a, b) = (std::fs::read(&cli).unwrap(), std::fs::read(&panel).unwrap());
+    assert_eq!(
+        String::from_utf8_lossy(&a),
+        String::from_utf8_lossy(&b),
+        "the command and the panel differ"
+    );
+    let text = String::from_utf8(a).unwrap();
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert!(
+        rows[0].starts_with("tilt_deg,impact_angle_deg,skips,"),
+        "{text}"
+    );
+    // 2 × 3 throws: each tilt with each impact angle.
+    let pairs: Vec<String> = rows[1..]
+        .iter()
+        .map(|r| r.split(',').take(2).collect::<Vec<_>>().join(","))
+        .collect();
+    assert_eq!(
+        pairs,
+        ["10,10", "10,35", "10,60", "30,10", "30,35", "30,60"],
+        "{text}"
+    );
+    let help = stoneskip(&["sweep", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    for words in ["--vary2", "--count2", "impact_angle", "map"] {
+        assert!(help.contains(words), "`{words}` missing from: {help}");
+    }
+    let clash = stoneskip(&[
+        "sweep",
+        "--preset",
+        "default",
+        "--vary",
+        "height",
+        "--vary2",
+        "impact_angle",
+    ]);
+    assert_clear_error(&clash, &["height"]);
+    let big = stoneskip(&[
+        "sweep", "--preset", "default", "--vary", "tilt", "--count", "21", "--vary2", "speed",
+    ]);
+    assert_clear_error(&big, &["--count 21", "20"]);
+}

@@ -941,3 +941,163 @@ fn the_model_in_detail_opens_each_item_plainly() {
     assert!(spin < top(&h, "The stone can be held at one angle"));
     assert!(spin < top(&h, "Spinning about its own middle"));
 }
+
+/// Waits (stepping the harness) until the experiment has finished.
+fn until_experiment_done(h: &mut Harness<'_, Model>) {
+    let t0 = std::time::Instant::now();
+    while h.state().experiment.as_ref().is_none_or(|e| !e.finished()) {
+        assert!(
+            t0.elapsed().as_secs() < 300,
+            "the experiment did not finish"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        h.step();
+    }
+    pause(h, 3);
+}
+
+/// Issue 48: a two-value map. "Map a second value" maps tilt against impact angle (Clanet's
+/// diagram); every cell is thrown with both values, the first touch coming down at the cell's
+/// impact angle; a click on a cell loads and watches that throw, as a dot does; the export has
+/// both values as columns.
+#[test]
+fn a_map_of_tilt_and_impact_angle_runs_and_a_cell_watches_its_throw() {
+    use stoneskip::app::experiments::Knob;
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness_sized(model("clanet_disc", dir.path()), [1280.0, 720.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Experiments").click();
+    h.run_ok();
+    h.get_by_role_and_label(Role::CheckBox, "Map a second value")
+        .click();
+    h.run_ok();
+    let second = h.state().experiment_second.expect("a second value");
+    assert_eq!(
+        (h.state().experiment_draft.knob, second.knob),
+        (Knob::Tilt, Knob::ImpactAngle)
+    );
+    type_into(&mut h, "Throws", "3");
+    type_into(&mut h, "Values", "4");
+    h.get_by_role_and_label(Role::Button, "Run the experiment")
+        .click();
+    until_experiment_done(&mut h);
+    let e = h.state().experiment.as_ref().expect("an experiment");
+    assert_eq!(e.points.len(), 12, "3 tilts × 4 impact angles");
+    let (xs, ys) = (e.plan().x_values(), e.plan().y_values());
+    for (i, p) in e.presets.iter().enumerate() {
+        assert_eq!(Knob::Tilt.get(p), xs[i / 4]);
+        assert!((Knob::ImpactAngle.get(p) - ys[i % 4]).abs() < 1e-9);
+    }
+    // The view keeps most of the window with the map open.
+    let view = h.state().view_rect.height();
+    assert!(view >= 0.6 * 720.0, "the view is {view} px of 720");
+    // Click the cell of the second tilt and the third impact angle.
+    let t: egui_plot::PlotTransform = h
+        .ctx
+        .data(|d| d.get_temp(egui::Id::unique("experiment map transform")))
+        .expect("the map was drawn");
+    let at = t.position_from_point(&egui_plot::PlotPoint::new(xs[1], ys[2]));
+    press(&mut h, at, egui::PointerButton::Primary);
+    h.step();
+    let i = 4 + 2;
+    assert_eq!(h.state().experiment_chosen, Some(i));
+    let edit = &h.state().edit;
+    assert_eq!(Knob::Tilt.get(edit), xs[1]);
+    assert!((Knob::ImpactAngle.get(edit) - ys[2]).abs() < 1e-9);
+    let point = h.state().experiment.as_ref().unwrap().points[i]
+        .clone()
+        .expect("a result");
+    until_outcome(&mut h, 5_000);
+    let s = h.state().sim.summary();
+    assert_eq!((s.skips, s.distance), (point.skips, point.distance));
+    h.get_by_role_and_label(Role::Button, "Export CSV").click();
+    h.run_ok();
+    let csv = std::fs::read_dir(dir.path().join("exports"))
+        .expect("an exports folder")
+        .flatten()
+        .next()
+        .expect("a CSV");
+    let text = std::fs::read_to_string(csv.path()).expect("the CSV");
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(rows.len(), 13, "{text}");
+    assert!(
+        rows[0].starts_with("tilt_deg,impact_angle_deg,skips"),
+        "{text}"
+    );
+}
+
+/// Issue 48: a 400-cell map (20 × 20) runs in the background, its results arriving while the
+/// app draws, and Stop ends it early.
+#[test]
+fn a_400_cell_map_stops_when_asked() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness_sized(model("default", dir.path()), [1280.0, 720.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Experiments").click();
+    h.run_ok();
+    h.get_by_role_and_label(Role::CheckBox, "Map a second value")
+        .click();
+    h.run_ok();
+    type_into(&mut h, "Throws", "20");
+    type_into(&mut h, "Values", "20");
+    h.get_by_role_and_label(Role::Button, "Run the experiment")
+        .click();
+    pause(&mut h, 2);
+    assert_eq!(h.state().experiment.as_ref().unwrap().points.len(), 400);
+    h.get_by_role_and_label(Role::Button, "Stop").click();
+    pause(&mut h, 2);
+    let e = h.state().experiment.as_ref().unwrap();
+    assert!(e.stopped());
+    // The throws under way end at their next step; no new one starts.
+    let t0 = std::time::Instant::now();
+    let mut last = usize::MAX;
+    while last != h.state().experiment.as_ref().unwrap().done() {
+        last = h.state().experiment.as_ref().unwrap().done();
+        assert!(t0.elapsed().as_secs() < 60);
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        h.step();
+    }
+    assert!(last < 400, "{last} of 400 thrown after Stop");
+    assert!(h
+        .query_by_role_and_label(Role::Button, "Run the experiment")
+        .is_some());
+}
+
+/// Issue 48, finding 2: the one-value charts show the stone's attitude at a landing beside
+/// skips and distance (a selector: tilt or bank, first or last landing; the last, which
+/// decided how a throw that sank ended, first), each throw's as its run recorded it.
+#[test]
+fn the_attitude_chart_shows_the_tilt_at_a_landing() {
+    use stoneskip::app::experiments::{Attitude, Knob, Spec};
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut h = harness_sized(model("default", dir.path()), [1280.0, 720.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Experiments").click();
+    h.run_ok();
+    h.state_mut().experiment_draft = Spec {
+        knob: Knob::Mass,
+        from: 0.16,
+        to: 0.2,
+        count: 3,
+    };
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Run the experiment")
+        .click();
+    until_experiment_done(&mut h);
+    h.get_by_role_and_label(Role::ComboBox, "Attitude").click();
+    h.run_ok();
+    h.get_by_label("Tilt at the first landing").click();
+    h.run_ok();
+    let choice: Option<Attitude> = h
+        .ctx
+        .data(|d| d.get_temp(egui::Id::unique("experiment attitude")));
+    assert_eq!(choice, Some(Attitude::FirstTilt));
+    let e = h.state().experiment.as_ref().expect("an experiment");
+    for p in e.points.iter().flatten() {
+        let s = stoneskip::sim::simulate(&Knob::Mass.set(&e.base, p.value)).expect("a run");
+        let first = s.contacts.first().expect("a touch").attitude_in[0];
+        let last = s.contacts.last().expect("a touch").attitude_in[0];
+        assert_eq!(Attitude::FirstTilt.of(p), Some(first));
+        assert_eq!(Attitude::LastTilt.of(p), Some(last));
+    }
+}

@@ -7,17 +7,45 @@
 use egui::{Color32, RichText, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotPoints, Points};
 
-use super::experiments::{Experiment, Knob, Point, Spec, MAX_THROWS};
+use super::experiments::{Attitude, Experiment, Knob, Point, Spec, MAX_SIDE, MAX_THROWS};
 use crate::ui::Action;
 
 const SKIPS: Color32 = Color32::from_rgb(255, 200, 90);
 const DISTANCE: Color32 = Color32::from_rgb(120, 200, 255);
 const CHOSEN: Color32 = Color32::from_rgb(255, 110, 110);
+const ATTITUDE: Color32 = Color32::from_rgb(170, 230, 140);
 
-/// The whole window's contents. `chosen` is the point whose throw the view shows.
+/// The attitude chart's choice (tilt or bank, first or last landing), kept in egui's memory
+/// from frame to frame; a selector above the chart.
+fn attitude_choice_ui(ui: &mut Ui) -> Attitude {
+    let id = egui::Id::unique("experiment attitude");
+    let mut choice: Attitude = ui.data(|d| d.get_temp(id)).unwrap_or_default();
+    ui.horizontal(|ui| {
+        let label = ui.weak("Attitude").id;
+        egui::ComboBox::from_id_salt("experiment attitude chart")
+            .selected_text(choice.name())
+            .show_ui(ui, |ui| {
+                for a in Attitude::ALL {
+                    ui.selectable_value(&mut choice, a, a.name());
+                }
+            })
+            .response
+            .labelled_by(label)
+            .on_hover_text(
+                "The stone's attitude relative to its travel when it met the water: tilt below \
+                 0 is nose-down (it digs in), a bank past 20° lands it on its edge",
+            );
+    });
+    ui.data_mut(|d| d.insert_temp(id, choice));
+    choice
+}
+
+/// The whole window's contents: the sweep's settings (`draft`, and `second`: a map's second
+/// value, `None` for one value), then the results: charts against the value, or a map of two.
+/// `chosen` is the point whose throw the view shows.
 pub fn experiments_ui(
     ui: &mut Ui,
-    draft: &mut Spec,
+    (draft, second): (&mut Spec, &mut Option<Spec>),
     experiment: Option<&Experiment>,
     chosen: Option<usize>,
     loaded_name: &str,
@@ -36,10 +64,12 @@ pub fn experiments_ui(
             // Its words on hover: the column stays short, so the panel does not grow past a
             // third of the window and the 3D view keeps at least 60 % of a 1280 × 720 window.
             ui.strong("Experiments").on_hover_text(
-                "Throw the stone many times, changing one thing, with the physics as it is \
-                 now. Each dot is one throw: click it to watch that throw.",
+                "Throw the stone many times, changing one thing (or two, on a map), with the \
+                 physics as it is now. Each dot or cell is one throw: click it to watch that \
+                 throw.",
             );
-            spec_ui(ui, draft, busy, actions);
+            spec_ui(ui, draft, second, busy);
+            run_ui(ui, busy, experiment, actions);
             if let Some(e) = experiment {
                 progress_ui(ui, e);
                 // Old results stay readable after another preset is loaded, labelled as such.
@@ -52,115 +82,117 @@ pub fn experiments_ui(
                         .color(Color32::from_rgb(255, 200, 120)),
                     );
                 }
-                if ui
-                    .add_enabled(e.done() > 0, egui::Button::new("Export CSV"))
-                    .on_hover_text("The table as a CSV file, in the exports folder")
-                    .clicked()
-                {
-                    actions.push(Action::ExportExperiment);
-                }
             }
         });
+        if let Some(y) = second.as_mut() {
+            ui.separator();
+            ui.vertical(|ui| {
+                ui.set_width(SECOND_WIDTH);
+                second_ui(ui, draft.knob, y, busy);
+            });
+        }
         let Some(e) = experiment else {
             return;
         };
         ui.separator();
-        // The charts share the value along x; it is named once, above them (an axis label
-        // under each would crowd out the tick numbers).
-        let table_width = 330.0_f32.min(0.35 * ui.available_width());
-        let chart_width = ((ui.available_width() - table_width - 24.0) / 2.0).max(120.0);
-        for (name, axis, color, value) in [
-            (
-                "Skips",
-                "skips",
-                SKIPS,
-                (|p| p.skips as f64) as fn(&Point) -> f64,
-            ),
-            ("Distance", "distance (m)", DISTANCE, |p| p.distance),
-        ] {
-            let size = egui::vec2(chart_width, (height - 56.0).max(80.0));
-            ui.vertical(|ui| {
-                ui.weak(format!(
-                    "{name} against {} ({}), \"{}\"",
-                    e.spec.knob.name().to_lowercase(),
-                    e.spec.knob.unit(),
-                    e.loaded.name
-                ));
-                if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), value, size) {
-                    actions.push(Action::LoadExperimentPoint(i));
-                }
-            });
+        if e.second.is_some() {
+            map_results_ui(ui, e, chosen, height, actions);
+        } else {
+            charts_ui(ui, e, chosen, height, actions);
         }
         ui.separator();
         ui.vertical(|ui| table_ui(ui, e, chosen, actions));
     });
 }
 
-/// The width of the sweep's settings column (points).
-const SPEC_WIDTH: f32 = 250.0;
-
-fn running(e: &Experiment) -> bool {
-    !e.finished() && !e.stopped()
+/// A map's results: the map of skips, its legend.
+fn map_results_ui(
+    ui: &mut Ui,
+    e: &Experiment,
+    chosen: Option<usize>,
+    height: f32,
+    actions: &mut Vec<Action>,
+) {
+    let table_width = 260.0_f32.min(0.3 * ui.available_width());
+    let legend_width = 110.0;
+    let plot_height = (height - 40.0).max(80.0);
+    // What the row leaves, up to cells three times as wide as tall.
+    let width = (ui.available_width() - table_width - legend_width - 30.0)
+        .min(plot_height * 3.0)
+        .max(160.0);
+    ui.vertical(|ui| {
+        let y = e.second.map_or("", |s| s.knob.name());
+        ui.weak(format!(
+            "Skips over {} and {}, \"{}\"",
+            e.spec.knob.name().to_lowercase(),
+            y.to_lowercase(),
+            e.loaded.name
+        ));
+        let size = egui::vec2(width, plot_height);
+        if let Some(i) = super::map_panel::map_ui(ui, e, chosen, size) {
+            actions.push(Action::LoadExperimentPoint(i));
+        }
+    });
+    ui.vertical(|ui| {
+        ui.set_width(legend_width);
+        super::map_panel::legend_ui(ui, e);
+    });
 }
 
-/// What to vary, its range and the number of throws; Run or Stop.
-fn spec_ui(ui: &mut Ui, draft: &mut Spec, busy: bool, actions: &mut Vec<Action>) {
-    egui::Grid::new("experiment spec")
-        .num_columns(2)
-        .spacing([10.0, 6.0])
-        .show(ui, |ui| {
-            let label = ui.label("Vary").id;
-            let before = draft.knob;
-            egui::ComboBox::from_id_salt("experiment knob")
-                .selected_text(format!("{} ({})", draft.knob.name(), draft.knob.unit()))
-                .show_ui(ui, |ui| {
-                    for k in Knob::ALL {
-                        ui.selectable_value(
-                            &mut draft.knob,
-                            k,
-                            format!("{} ({})", k.name(), k.unit()),
-                        );
-                    }
-                })
-                .response
-                .labelled_by(label);
-            if draft.knob != before {
-                *draft = Spec {
-                    count: draft.count,
-                    ..Spec::suggested(draft.knob)
-                };
+/// A one-value experiment's charts: skips, distance and the stone's attitude at a landing (a
+/// selector), side by side, against the value.
+fn charts_ui(
+    ui: &mut Ui,
+    e: &Experiment,
+    chosen: Option<usize>,
+    height: f32,
+    actions: &mut Vec<Action>,
+) {
+    // The charts share the value along x; it is named once, above them (an axis label under
+    // each would crowd out the tick numbers).
+    // The table keeps room for its Watch buttons and the ending's first words.
+    let table_width = 320.0_f32.min(0.34 * ui.available_width());
+    let chart_width = ((ui.available_width() - table_width - 60.0) / 3.0).max(120.0);
+    let size = egui::vec2(chart_width, (height - 56.0).max(80.0));
+    let against = format!(
+        "against {} ({}), \"{}\"",
+        e.spec.knob.name().to_lowercase(),
+        e.spec.knob.unit(),
+        e.loaded.name
+    );
+    for (name, axis, color, value) in [
+        (
+            "Skips",
+            "skips",
+            SKIPS,
+            (|p| Some(p.skips as f64)) as fn(&Point) -> Option<f64>,
+        ),
+        ("Distance", "distance (m)", DISTANCE, |p| Some(p.distance)),
+    ] {
+        ui.vertical(|ui| {
+            // Each column as wide as its chart: a long title is cut (whole on hover).
+            ui.set_width(size.x);
+            let title = format!("{name} {against}");
+            ui.add(egui::Label::new(RichText::new(&title).weak()).truncate())
+                .on_hover_text(title);
+            if let Some(i) = chart_ui(ui, e, chosen, (name, axis, color), &value, size) {
+                actions.push(Action::LoadExperimentPoint(i));
             }
-            ui.end_row();
-            let (lo, hi) = draft.knob.range();
-            let label = ui.label("From").id;
-            ui.horizontal(|ui| {
-                for (value, name) in [(&mut draft.from, "from"), (&mut draft.to, "to")] {
-                    ui.add(
-                        egui::DragValue::new(value)
-                            .range(lo..=hi)
-                            .speed((hi - lo) / 200.0)
-                            .custom_parser(crate::ui::parse_finite)
-                            .update_while_editing(false)
-                            .suffix(format!(" {}", draft.knob.unit())),
-                    )
-                    .labelled_by(label)
-                    .on_hover_text(format!("The sweep's {name} value"));
-                    if name == "from" {
-                        ui.label("to");
-                    }
-                }
-            });
-            ui.end_row();
-            let label = ui.label("Throws").id;
-            ui.add(
-                egui::Slider::new(&mut draft.count, 2..=MAX_THROWS)
-                    .clamping(egui::SliderClamping::Always)
-                    .logarithmic(true)
-                    .update_while_editing(false),
-            )
-            .labelled_by(label);
-            ui.end_row();
         });
+    }
+    ui.vertical(|ui| {
+        ui.set_width(size.x);
+        let attitude = attitude_choice_ui(ui);
+        let value = move |p: &Point| attitude.of(p);
+        let series = (attitude.name(), "degrees", ATTITUDE);
+        if let Some(i) = chart_ui(ui, e, chosen, series, &value, size) {
+            actions.push(Action::LoadExperimentPoint(i));
+        }
+    });
+}
+
+/// Run or Stop, and Export CSV.
+fn run_ui(ui: &mut Ui, busy: bool, e: Option<&Experiment>, actions: &mut Vec<Action>) {
     ui.horizontal(|ui| {
         if busy {
             if ui.button("Stop").clicked() {
@@ -173,7 +205,167 @@ fn spec_ui(ui: &mut Ui, draft: &mut Spec, busy: bool, actions: &mut Vec<Action>)
         {
             actions.push(Action::RunExperiment);
         }
+        if let Some(e) = e {
+            if ui
+                .add_enabled(e.done() > 0, egui::Button::new("Export CSV"))
+                .on_hover_text("The table as a CSV file, in the exports folder")
+                .clicked()
+            {
+                actions.push(Action::ExportExperiment);
+            }
+        }
     });
+}
+
+/// The width of the second value's column (points).
+const SECOND_WIDTH: f32 = 200.0;
+
+/// The width of the sweep's settings column (points).
+const SPEC_WIDTH: f32 = 250.0;
+
+fn running(e: &Experiment) -> bool {
+    !e.finished() && !e.stopped()
+}
+
+/// What to vary, its range and the number of throws; whether to map a second value.
+fn spec_ui(ui: &mut Ui, draft: &mut Spec, second: &mut Option<Spec>, busy: bool) {
+    let map = second.is_some();
+    egui::Grid::new("experiment spec")
+        .num_columns(2)
+        .spacing([10.0, 6.0])
+        .show(ui, |ui| {
+            let exclude = second.map(|y| y.knob);
+            if knob_rows_ui(ui, draft, ("Vary", "From", "Throws"), exclude, map) {
+                // A map's second value moves off a pair that cannot be mapped.
+                if let Some(y) = second.as_mut() {
+                    if !pairs(draft.knob, y.knob) {
+                        *y = Spec::for_map(partner(draft.knob));
+                    }
+                }
+            }
+        });
+    let mut on = map;
+    ui.add_enabled_ui(!busy, |ui| {
+        ui.checkbox(&mut on, "Map a second value").on_hover_text(
+            "Every value with every value of a second one, on a grid: each cell one throw, \
+             coloured by its skips (try tilt against impact angle: Clanet's 2004 diagram)",
+        )
+    });
+    if on != map {
+        *second = on.then(|| {
+            if draft.count > MAX_SIDE {
+                *draft = Spec::for_map(draft.knob);
+            }
+            Spec::for_map(partner(draft.knob))
+        });
+    }
+}
+
+/// A map's second value: what, its range and how many values.
+fn second_ui(ui: &mut Ui, first: Knob, y: &mut Spec, busy: bool) {
+    ui.strong("Mapped against");
+    ui.add_enabled_ui(!busy, |ui| {
+        egui::Grid::new("experiment second")
+            .num_columns(2)
+            .spacing([10.0, 6.0])
+            .show(ui, |ui| {
+                knob_rows_ui(ui, y, ("Second", "From (2nd)", "Values"), Some(first), true);
+            });
+    });
+}
+
+/// Whether two values can be mapped together (not one twice; an impact angle fixes the
+/// height).
+fn pairs(a: Knob, b: Knob) -> bool {
+    crate::sweep::Plan {
+        x: Spec::suggested(a),
+        y: Some(Spec::suggested(b)),
+    }
+    .conflict()
+    .is_none()
+}
+
+/// The value a map of `k` is first drawn against: tilt against impact angle (Clanet's
+/// diagram), anything else against tilt (speed × tilt: the minimal speed at each angle).
+fn partner(k: Knob) -> Knob {
+    match k {
+        Knob::Tilt => Knob::ImpactAngle,
+        _ => Knob::Tilt,
+    }
+}
+
+/// One value's rows in a grid: what to vary (leaving out `exclude` and what cannot pair with
+/// it), from and to, how many (2 to 20 on a `map`'s side). True when the value changed.
+fn knob_rows_ui(
+    ui: &mut Ui,
+    draft: &mut Spec,
+    (vary, from, count): (&str, &str, &str),
+    exclude: Option<Knob>,
+    map: bool,
+) -> bool {
+    let label = ui.label(vary).id;
+    let before = draft.knob;
+    egui::ComboBox::from_id_salt(("experiment knob", vary))
+        .selected_text(format!("{} ({})", draft.knob.name(), draft.knob.unit()))
+        .show_ui(ui, |ui| {
+            for k in Knob::ALL {
+                if exclude.is_some_and(|x| !pairs(k, x)) {
+                    continue;
+                }
+                ui.selectable_value(&mut draft.knob, k, format!("{} ({})", k.name(), k.unit()));
+            }
+        })
+        .response
+        .labelled_by(label);
+    let changed = draft.knob != before;
+    if changed {
+        *draft = if map {
+            Spec::for_map(draft.knob)
+        } else {
+            Spec {
+                count: draft.count,
+                ..Spec::suggested(draft.knob)
+            }
+        };
+    }
+    ui.end_row();
+    let (lo, hi) = draft.knob.range();
+    let label = ui.label(from).id;
+    ui.horizontal(|ui| {
+        for (value, name) in [(&mut draft.from, "from"), (&mut draft.to, "to")] {
+            ui.add(
+                egui::DragValue::new(value)
+                    .range(lo..=hi)
+                    .speed((hi - lo) / 200.0)
+                    .custom_parser(crate::ui::parse_finite)
+                    .update_while_editing(false)
+                    .suffix(format!(" {}", draft.knob.unit())),
+            )
+            .labelled_by(label)
+            .on_hover_text(format!("The sweep's {name} value"));
+            if name == "from" {
+                ui.label("to");
+            }
+        }
+    });
+    ui.end_row();
+    let label = ui.label(count).id;
+    let most = if map { MAX_SIDE } else { MAX_THROWS };
+    draft.count = draft.count.clamp(2, most);
+    ui.add(
+        egui::Slider::new(&mut draft.count, 2..=most)
+            .clamping(egui::SliderClamping::Always)
+            .logarithmic(!map)
+            .update_while_editing(false),
+    )
+    .labelled_by(label)
+    .on_hover_text(if map {
+        "How many values along this side of the map (2 to 20; 400 throws at most)"
+    } else {
+        "How many throws, both ends included"
+    });
+    ui.end_row();
+    changed
 }
 
 fn progress_ui(ui: &mut Ui, e: &Experiment) {
@@ -208,32 +400,28 @@ fn chart_ui(
     e: &Experiment,
     chosen: Option<usize>,
     (name, axis, color): (&str, &str, Color32),
-    value: fn(&Point) -> f64,
+    value: &dyn Fn(&Point) -> Option<f64>,
     size: egui::Vec2,
 ) -> Option<usize> {
     // Throws ended by a bound of the simulation (the lake's edge under wavy contact, the time
-    // limit) are no result: drawn hollow and left out of the trend line.
-    let pts: Vec<[f64; 2]> = e
-        .points
-        .iter()
-        .flatten()
-        .filter(|p| p.result)
-        .map(|p| [p.value, value(p)])
-        .collect();
-    let bounded: Vec<[f64; 2]> = e
-        .points
-        .iter()
-        .flatten()
-        .filter(|p| !p.result)
-        .map(|p| [p.value, value(p)])
-        .collect();
+    // limit) are no result: drawn hollow and left out of the trend line. A throw with no value
+    // (an attitude when it never touched) has no dot.
+    let series = |result: bool| -> Vec<[f64; 2]> {
+        e.points
+            .iter()
+            .flatten()
+            .filter(|p| p.result == result)
+            .filter_map(|p| value(p).map(|y| [p.value, y]))
+            .collect()
+    };
+    let (pts, bounded) = (series(true), series(false));
     let (lo, hi) = (e.spec.from.min(e.spec.to), e.spec.from.max(e.spec.to));
     // Skips are whole numbers: their axis is numbered by whole numbers only.
     let whole = name == "Skips";
     let (knob_name, unit) = (e.spec.knob.name().to_lowercase(), e.spec.knob.unit());
     let chosen_pt = chosen
         .and_then(|i| e.points.get(i).cloned().flatten())
-        .map(|p| [p.value, value(&p)]);
+        .and_then(|p| value(&p).map(|y| [p.value, y]));
     let response = Plot::new(("experiment", name))
         .width(size.x)
         .height(size.y)
@@ -276,6 +464,10 @@ fn chart_ui(
             Some(format!("{} {:.3} {unit}\n{axis} {y}", knob_name, p.x))
         })
         .show(ui, |plot| {
+            if axis == "degrees" {
+                // Level: a tilt below it is nose-down.
+                plot.hline(egui_plot::HLine::new("level", 0.0).color(Color32::GRAY));
+            }
             plot.line(
                 Line::new(name, PlotPoints::from(pts.clone())).color(color.gamma_multiply(0.6)),
             );
@@ -320,54 +512,73 @@ fn chart_ui(
         .map(|(i, _)| i)
 }
 
-/// The results as a table; each row's button loads that throw.
+/// The results as a table; each row's button loads that throw. Only the rows in sight are
+/// laid out (a 400-cell map's table costs the frame no more than a short one).
 fn table_ui(ui: &mut Ui, e: &Experiment, chosen: Option<usize>, actions: &mut Vec<Action>) {
-    let k = e.spec.knob;
+    let knobs: Vec<Knob> = std::iter::once(e.spec.knob)
+        .chain(e.second.map(|s| s.knob))
+        .collect();
+    let cell = |ui: &mut Ui, width: f32, text: RichText| {
+        ui.add_sized([width, 16.0], egui::Label::new(text).truncate())
+    };
+    let value_width = if e.second.is_some() { 48.0 } else { 62.0 };
+    ui.horizontal(|ui| {
+        for k in &knobs {
+            cell(
+                ui,
+                value_width,
+                RichText::new(format!("{} ({})", k.name(), k.unit())).strong(),
+            )
+            .on_hover_text(format!("{} ({})", k.name(), k.unit()));
+        }
+        cell(ui, 32.0, RichText::new("skips").strong());
+        cell(ui, 52.0, RichText::new("distance (m)").strong()).on_hover_text("distance (m)");
+        ui.add_space(48.0);
+        ui.strong("ending");
+    });
+    let rows: Vec<usize> = (0..e.points.len())
+        .filter(|&i| e.points[i].is_some())
+        .collect();
+    let row_height = ui.spacing().interact_size.y;
     egui::ScrollArea::vertical()
         .auto_shrink([false, false])
         .id_salt("experiment table")
-        .show(ui, |ui| {
-            egui::Grid::new("experiment results")
-                .num_columns(5)
-                .striped(true)
-                .spacing([12.0, 2.0])
-                .show(ui, |ui| {
-                    ui.strong(format!("{} ({})", k.name(), k.unit()));
-                    ui.strong("skips");
-                    ui.strong("distance (m)");
-                    ui.label("");
-                    ui.strong("ending");
-                    ui.end_row();
-                    for (i, p) in e.points.iter().enumerate() {
-                        let Some(p) = p else { continue };
-                        let text = |s: String| {
-                            if chosen == Some(i) {
-                                RichText::new(s).color(CHOSEN)
-                            } else {
-                                RichText::new(s)
-                            }
-                        };
-                        ui.monospace(text(format!("{:.3}", p.value)));
-                        ui.monospace(text(p.skips.to_string()));
-                        ui.monospace(text(format!("{:.2}", p.distance)));
-                        // Watch before the ending, whose words may run past the panel's edge
-                        // (shown whole on hover).
-                        if ui
-                            .small_button("Watch")
-                            .on_hover_text("Load this throw's settings and throw it")
-                            .clicked()
-                        {
-                            actions.push(Action::LoadExperimentPoint(i));
-                        }
-                        let ending = if p.result {
-                            text(p.outcome.clone())
-                        } else {
-                            text(format!("not a result: {}", p.outcome)).italics()
-                        };
-                        ui.add(egui::Label::new(ending).truncate())
-                            .on_hover_text(&p.outcome);
-                        ui.end_row();
+        .show_rows(ui, row_height, rows.len(), |ui, range| {
+            for &i in &rows[range] {
+                let Some(p) = &e.points[i] else { continue };
+                let text = |s: String| {
+                    let t = RichText::new(s).monospace();
+                    if chosen == Some(i) {
+                        t.color(CHOSEN)
+                    } else {
+                        t
                     }
+                };
+                ui.horizontal(|ui| {
+                    ui.set_height(row_height);
+                    cell(ui, value_width, text(format!("{}", p.value)));
+                    if let Some(y) = p.second {
+                        cell(ui, value_width, text(format!("{y}")));
+                    }
+                    cell(ui, 32.0, text(p.skips.to_string()));
+                    cell(ui, 52.0, text(format!("{:.2}", p.distance)));
+                    // Watch before the ending, whose words may run past the panel's edge
+                    // (shown whole on hover).
+                    if ui
+                        .small_button("Watch")
+                        .on_hover_text("Load this throw's settings and throw it")
+                        .clicked()
+                    {
+                        actions.push(Action::LoadExperimentPoint(i));
+                    }
+                    let ending = if p.result {
+                        text(p.outcome.clone())
+                    } else {
+                        text(format!("not a result: {}", p.outcome)).italics()
+                    };
+                    ui.add(egui::Label::new(ending).truncate())
+                        .on_hover_text(&p.outcome);
                 });
+            }
         });
 }

@@ -15,12 +15,15 @@ use rayon::prelude::*;
 
 use crate::sim::params::Preset;
 
-pub use crate::sweep::{Knob, Point, Spec, MAX_THROWS};
+pub use crate::sweep::{Attitude, Knob, Plan, Point, Spec, MAX_SIDE, MAX_THROWS};
 
 /// A sweep under way or done: its throws' presets, the results so far (in value order, `None`
 /// until a throw finishes), the background work's receiver and its stop flag.
 pub struct Experiment {
+    /// The value swept (a map's first, along x).
     pub spec: Spec,
+    /// A map's second value (along y), or `None`.
+    pub second: Option<Spec>,
     /// The preset as loaded when the sweep started (its name is the charts'; the CSV's header
     /// lists what `base` changed from it).
     pub loaded: Preset,
@@ -36,19 +39,20 @@ pub struct Experiment {
 }
 
 impl Experiment {
-    /// Starts the sweep of `spec` on `base` (its physics, stone and water as they are now;
-    /// `loaded`: the preset as loaded) in the background.
-    pub fn start(base: &Preset, loaded: &Preset, spec: Spec) -> Self {
-        let presets = crate::sweep::presets(base, &spec);
+    /// Starts the experiment `plan` (one value, or a map of two) on `base` (its physics, stone
+    /// and water as they are now; `loaded`: the preset as loaded) in the background.
+    pub fn start(base: &Preset, loaded: &Preset, plan: impl Into<Plan>) -> Self {
+        let plan = plan.into();
+        let presets = crate::sweep::presets(base, &plan);
         let (sender, receiver) = channel();
         let stop = Arc::new(AtomicBool::new(false));
-        // The value as swept (the CSV's first column, as `stoneskip sweep` writes it).
-        let jobs: Vec<(usize, f64, Preset)> = spec
-            .values()
+        // The values as swept (the CSV's first columns, as `stoneskip sweep` writes them).
+        let jobs: Vec<(usize, (f64, Option<f64>), Preset)> = plan
+            .cells()
             .into_iter()
             .zip(&presets)
             .enumerate()
-            .map(|(i, (x, p))| (i, x, p.clone()))
+            .map(|(i, (c, p))| (i, c, p.clone()))
             .collect();
         let flag = stop.clone();
         // All cores but one: the app's own thread keeps drawing.
@@ -76,7 +80,8 @@ impl Experiment {
         Self {
             points: vec![None; presets.len()],
             presets,
-            spec,
+            spec: plan.x,
+            second: plan.y,
             loaded: loaded.clone(),
             base: base.clone(),
             receiver,
@@ -118,12 +123,20 @@ impl Experiment {
         self.stop.load(Ordering::Relaxed)
     }
 
+    /// What was thrown: the value, and a map's second.
+    pub fn plan(&self) -> Plan {
+        Plan {
+            x: self.spec,
+            y: self.second,
+        }
+    }
+
     /// Writes the finished throws as CSV ([`crate::sweep::write_csv`], the table
     /// `stoneskip sweep` writes).
     pub fn write_csv(&self, path: &Path) -> Result<()> {
         let points: Vec<Point> = self.points.iter().flatten().cloned().collect();
         let mut f = super::files::create_file(path)?;
-        crate::sweep::write_csv(&mut f, &self.loaded, &self.base, &self.spec, &points)
+        crate::sweep::write_csv(&mut f, &self.loaded, &self.base, &self.plan(), &points)
             .with_context(|| format!("writing {}", path.display()))
     }
 }
@@ -186,9 +199,17 @@ mod tests {
             let q = k.set(&p, x);
             assert!((k.get(&q) - x).abs() < 1e-9 * (1.0 + x.abs()), "{k:?}");
             q.validate().unwrap();
-            // The other knobs keep their values.
+            // The other knobs keep their values (to rounding: a speed is a velocity's length),
+            // but an impact angle launches at the water, at the touch's height.
             for other in Knob::ALL.into_iter().filter(|o| *o != k) {
-                assert_eq!(other.get(&q), other.get(&p), "{k:?} moved {other:?}");
+                if (k, other) == (Knob::ImpactAngle, Knob::Height) {
+                    continue;
+                }
+                let (a, b) = (other.get(&q), other.get(&p));
+                assert!(
+                    (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+                    "{k:?} moved {other:?}"
+                );
             }
         }
     }
@@ -224,7 +245,8 @@ mod tests {
         let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
         assert_eq!(
             rows[0],
-            "tilt_deg,skips,distance_m,ending,result,force_evals"
+            "tilt_deg,skips,distance_m,ending,result,force_evals,first_tilt_deg,first_bank_deg,\
+             last_tilt_deg,last_bank_deg"
         );
         assert_eq!(rows.len(), 5);
     }

@@ -20,6 +20,7 @@ pub mod experiments;
 pub mod files;
 mod frame;
 pub mod lake;
+mod map_panel;
 pub mod model;
 pub mod options;
 mod overlays;
@@ -64,6 +65,19 @@ pub fn run_app(preset: Option<PathBuf>, frames: Option<u64>) -> Result<()> {
             count,
             ..experiments::Spec::suggested(knob)
         };
+        // A map: both sides over their map ranges, so many values a side.
+        if let Some((second, n)) = options.experiment_map {
+            let side = |k, n: usize| experiments::Spec {
+                count: n.clamp(2, experiments::MAX_SIDE),
+                ..experiments::Spec::for_map(k)
+            };
+            model.experiment_draft = side(knob, count);
+            model.experiment_second = Some(side(second, n));
+        }
+        if let Some((from, to)) = options.experiment_range {
+            model.experiment_draft.from = from;
+            model.experiment_draft.to = to;
+        }
         model.handle(crate::ui::Action::RunExperiment);
     }
     let event_loop = EventLoop::new().map_err(|e| {

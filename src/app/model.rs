@@ -12,7 +12,7 @@ use anyhow::{Context as _, Result};
 use glam::{DQuat, DVec3, Vec2, Vec3};
 
 use super::clock::FixedClock;
-use super::experiments::{Experiment, Knob, Spec};
+use super::experiments::{Experiment, Knob, Plan, Spec};
 use super::files;
 use super::lake::{self, Rect};
 use super::options::Options;
@@ -453,6 +453,8 @@ pub struct Model {
     /// Experiments) takes them away until the pointer is over the view or a press lands there.
     pub keys_to_view: bool,
     pub experiment_draft: Spec,
+    /// A map's second value (along y) being edited; `None`: one value.
+    pub experiment_second: Option<Spec>,
     pub experiment: Option<Experiment>,
     pub experiment_chosen: Option<usize>,
 }
@@ -541,6 +543,7 @@ impl Model {
             show_experiments: false,
             keys_to_view: true,
             experiment_draft: Spec::suggested(Knob::Tilt),
+            experiment_second: None,
             experiment: None,
             experiment_chosen: None,
         };
@@ -1241,11 +1244,17 @@ impl Model {
             Action::Revert(section) => self.revert(section),
             Action::RunExperiment => {
                 self.experiment_chosen = None;
-                self.experiment = Some(Experiment::start(
-                    &self.edit,
-                    &self.loaded,
-                    self.experiment_draft,
-                ));
+                let plan = Plan {
+                    x: self.experiment_draft,
+                    y: self.experiment_second,
+                };
+                // The panel offers no conflicting pair; a pair that conflicts runs one value.
+                let plan = if plan.conflict().is_some() {
+                    Plan::from(plan.x)
+                } else {
+                    plan
+                };
+                self.experiment = Some(Experiment::start(&self.edit, &self.loaded, plan));
             }
             Action::StopExperiment => {
                 if let Some(e) = &self.experiment {
@@ -1273,7 +1282,10 @@ impl Model {
         let Some(e) = &self.experiment else {
             return;
         };
-        let name = format!("{}-{}", self.edit.name, e.spec.knob.name().to_lowercase());
+        let mut name = format!("{}-{}", self.edit.name, e.spec.knob.snake());
+        if let Some(y) = e.second {
+            name.push_str(&format!("-{}", y.knob.snake()));
+        }
         let path = files::output_path(&self.out_dir, &name, "csv");
         let message = match e.write_csv(&path) {
             Ok(()) => Message::info(format!("experiment written to {}", path.display())),

@@ -16,7 +16,8 @@
 //! | `STONESKIP_SOAK=N` | the soak: N automatic throws, cycling through the shipped presets |
 //! | `STONESKIP_SOAK_UNTIL=outcome` | a soak throw ends at its outcome, not when the app rests |
 //! | `STONESKIP_SOAK_CSV=FILE` | where the soak writes its per-throw rows (default `stoneskip-soak.csv`) |
-//! | `STONESKIP_EXPERIMENT=VALUE[:N]` | opens Experiments and runs the suggested sweep of `speed`, `tilt`, `spin`, `height` or `mass` (N throws, default 24) at start |
+//! | `STONESKIP_EXPERIMENT=VALUE[:N[:FROM:TO]]` | opens Experiments and runs the suggested sweep of `speed`, `tilt`, `impact_angle`, `spin`, `height` or `mass` (N throws, default 24; from FROM to TO) at start |
+//! | `STONESKIP_EXPERIMENT_MAP=VALUE[:N]` | with `STONESKIP_EXPERIMENT`, maps it against a second value (`impact_angle`, …; N values a side, default 20: a 400-cell map) |
 //! | `STONESKIP_LAKE_THREAD=0` | steps the lake inside the frame, not on its own thread (for comparison) |
 //! | `STONESKIP_FAULT=KIND@N[,…]` | (tests) injects a GPU fault at frame N: `device_lost`, `surface_lost`, `gpu_error` |
 
@@ -48,6 +49,12 @@ pub struct Options {
     /// The experiment to run at start: the value varied over its suggested range, in so many
     /// throws.
     pub experiment: Option<(super::experiments::Knob, usize)>,
+    /// A map's second value at start (`STONESKIP_EXPERIMENT_MAP=VALUE[:N]`, N values, default
+    /// 20; the first value then has at most 20): with `experiment`, a two-value map.
+    pub experiment_map: Option<(super::experiments::Knob, usize)>,
+    /// The first value's range at start, from `STONESKIP_EXPERIMENT=VALUE:N:FROM:TO` (else the
+    /// suggested one).
+    pub experiment_range: Option<(f64, f64)>,
     /// The lake steps on its own thread while the frame draws (`Model::lake_thread`); the app
     /// turns it on unless `STONESKIP_LAKE_THREAD=0`, the default (tests) leaves it off.
     pub lake_thread: bool,
@@ -88,6 +95,8 @@ impl Default for Options {
             soak_until_outcome: false,
             faults: Vec::new(),
             experiment: None,
+            experiment_map: None,
+            experiment_range: None,
             lake_thread: false,
         }
     }
@@ -134,11 +143,19 @@ impl Options {
             soak_until_outcome: get("STONESKIP_SOAK_UNTIL").is_some_and(|v| v.trim() == "outcome"),
             experiment: get("STONESKIP_EXPERIMENT").and_then(|v| {
                 let (name, count) = v.split_once(':').unwrap_or((&v, ""));
-                let knob = super::experiments::Knob::ALL
-                    .into_iter()
-                    .find(|k| k.name().eq_ignore_ascii_case(name.trim()))?;
-                let count = count.trim().parse().unwrap_or(24);
+                let knob = super::experiments::Knob::parse(name)?;
+                let count = count.split(':').next()?.trim().parse().unwrap_or(24);
                 Some((knob, count))
+            }),
+            experiment_range: get("STONESKIP_EXPERIMENT").and_then(|v| {
+                let mut parts = v.split(':').skip(2).map(|x| x.trim().parse::<f64>().ok());
+                let (from, to) = (parts.next()??, parts.next()??);
+                (from.is_finite() && to.is_finite()).then_some((from, to))
+            }),
+            experiment_map: get("STONESKIP_EXPERIMENT_MAP").and_then(|v| {
+                let (name, count) = v.split_once(':').unwrap_or((&v, ""));
+                let knob = super::experiments::Knob::parse(name)?;
+                Some((knob, count.trim().parse().unwrap_or(20)))
             }),
             faults: get("STONESKIP_FAULT")
                 .map(|v| parse_faults(&v))
@@ -241,6 +258,13 @@ mod tests {
             Some((Knob::Speed, 120))
         );
         assert_eq!(with(&[("STONESKIP_EXPERIMENT", "wind")]).experiment, None);
+        let mass = with(&[("STONESKIP_EXPERIMENT", "mass:8:0.14:0.28")]);
+        assert_eq!(mass.experiment, Some((Knob::Mass, 8)));
+        assert_eq!(mass.experiment_range, Some((0.14, 0.28)));
+        assert_eq!(
+            with(&[("STONESKIP_EXPERIMENT_MAP", "impact_angle:12")]).experiment_map,
+            Some((Knob::ImpactAngle, 12))
+        );
     }
 
     #[test]

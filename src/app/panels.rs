@@ -152,7 +152,7 @@ impl Model {
             .show(ui, |ui| {
                 super::experiment_panel::experiments_ui(
                     ui,
-                    &mut self.experiment_draft,
+                    (&mut self.experiment_draft, &mut self.experiment_second),
                     self.experiment.as_ref(),
                     self.experiment_chosen,
                     &self.loaded.name,
