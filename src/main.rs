@@ -9,11 +9,11 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
-use stoneskip::preset;
 use stoneskip::report::{json_summary, text_summary, CsvWriter};
-use stoneskip::sim::params::Preset;
-use stoneskip::sim::{Simulation, StepSample};
 use stoneskip::sweep::{Knob, Plan, Spec, MAX_SIDE, MAX_THROWS};
+use stoneskip_physics::preset;
+use stoneskip_physics::sim::params::Preset;
+use stoneskip_physics::sim::{Simulation, StepSample};
 
 #[derive(Parser)]
 #[command(
@@ -175,11 +175,11 @@ fn run() -> Result<()> {
             exaggerate,
         }) => {
             let p = preset::load_file_or_shipped(&preset)?;
-            let view = stoneskip::render::PictureView {
+            let view = stoneskip_render::PictureView {
                 view: parse_view(&view).map_err(anyhow::Error::msg)?,
                 exaggeration: exaggerate,
             };
-            stoneskip::render::render_to_png(&p, &out, width, height, time, view)
+            stoneskip_render::render_to_png(&p, &out, width, height, time, view)
                 .with_context(|| format!("rendering {}", out.display()))
         }
         Some(Command::Study { name, out, quick }) => run_study(&name, &out, quick),
@@ -291,7 +291,7 @@ fn sweep(path: &Path, plan: Plan, out: Option<&Path>) -> Result<()> {
 /// `study NAME`: the lab's studies.
 #[cfg(feature = "lab")]
 fn run_study(name: &str, out: &std::path::Path, quick: bool) -> Result<()> {
-    stoneskip::study::run_study(name, out, quick)
+    stoneskip_lab::study::run_study(name, out, quick)
 }
 
 /// A build without the lab has no studies to run.
@@ -314,9 +314,9 @@ fn without_app() -> anyhow::Error {
 
 /// `--view`: one of the app's cameras.
 #[cfg(feature = "app")]
-fn parse_view(s: &str) -> Result<stoneskip::render::ViewMode, String> {
-    match stoneskip::render::ViewMode::parse(s) {
-        Some(stoneskip::render::ViewMode::Free) | None => Err(format!(
+fn parse_view(s: &str) -> Result<stoneskip_render::ViewMode, String> {
+    match stoneskip_render::ViewMode::parse(s) {
+        Some(stoneskip_render::ViewMode::Free) | None => Err(format!(
             "unknown view \"{s}\" (expected behind, side, follow or top)"
         )),
         Some(v) => Ok(v),

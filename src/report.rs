@@ -5,11 +5,11 @@ use std::io::Write;
 
 use glam::DVec3;
 
-use crate::sim::air::Air;
-use crate::sim::integrate::{fly, BodyState};
-use crate::sim::params::Rotation;
-use crate::sim::stone::Stone;
-use crate::sim::{ending, Ending, Simulation, StepSample, Summary};
+use stoneskip_physics::sim::air::Air;
+use stoneskip_physics::sim::integrate::{fly, BodyState};
+use stoneskip_physics::sim::params::Rotation;
+use stoneskip_physics::sim::stone::Stone;
+use stoneskip_physics::sim::{ending, Ending, Simulation, StepSample, Summary};
 
 /// The CSV header (design.md §7).
 pub const CSV_HEADER: &str =
@@ -217,7 +217,7 @@ impl<W: Write> CsvWriter<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::Outcome;
+    use stoneskip_physics::sim::Outcome;
 
     fn diverged() -> Summary {
         Summary {
@@ -284,7 +284,7 @@ mod tests {
         let mut s = diverged();
         s.diverged_reason = None;
         s.outcome = Some(Outcome::Sank);
-        s.contacts = vec![crate::sim::ContactEvent {
+        s.contacts = vec![stoneskip_physics::sim::ContactEvent {
             t_start: 0.1,
             t_end: 0.2,
             skip: false,

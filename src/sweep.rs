@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::{Context as _, Result};
 use rayon::prelude::*;
 
-use crate::sim::params::Preset;
+use stoneskip_physics::sim::params::Preset;
 
 const TAU: f64 = std::f64::consts::TAU;
 
@@ -183,7 +183,7 @@ impl Knob {
 
 /// The gap (m) between the stone's lowest point and the water at an impact-angle launch
 /// ([`launch_at_touch`]): the literature's state at impact (design.md §8).
-pub const TOUCH_GAP: f64 = crate::sim::scenario::IMPACT_CLEARANCE;
+pub const TOUCH_GAP: f64 = stoneskip_physics::sim::scenario::IMPACT_CLEARANCE;
 
 /// Makes `p`'s launch a throw at impact: the velocity keeps its speed and horizontal heading and
 /// comes down at `beta` (rad) below the horizontal, and the stone, in its launch attitude, is
@@ -199,8 +199,8 @@ pub const TOUCH_GAP: f64 = crate::sim::scenario::IMPACT_CLEARANCE;
 /// simulation tests (the smooth lens's, or the mesh's in the frame it meets the water in).
 /// A stone that cannot be built leaves `p` as it is (its run then says why).
 pub fn launch_at_touch(p: &mut Preset, beta: f64) {
-    use crate::sim::params::{AxialSpin, Rotation};
     use glam::{DQuat, DVec3};
+    use stoneskip_physics::sim::params::{AxialSpin, Rotation};
     let v = DVec3::from_array(p.launch.velocity);
     let speed = v.length();
     let heading = if v.x == 0.0 && v.y == 0.0 {
@@ -215,10 +215,10 @@ pub fn launch_at_touch(p: &mut Preset, beta: f64) {
     );
     let velocity = dir * speed;
     p.launch.velocity = velocity.to_array();
-    let Ok(stone) = crate::sim::stone::Stone::new(&p.stone) else {
+    let Ok(stone) = stoneskip_physics::sim::stone::Stone::new(&p.stone) else {
         return;
     };
-    let mut q = crate::sim::stone::orientation_from_attitude(&p.launch.attitude);
+    let mut q = stoneskip_physics::sim::stone::orientation_from_attitude(&p.launch.attitude);
     // `axial_spin: Resal` on a free mesh of revolution meets the water in the frame turned
     // about the axis to face the flow (`integrate::mesh_orientation`).
     let ph = &p.physics;
@@ -232,8 +232,12 @@ pub fn launch_at_touch(p: &mut Preset, beta: f64) {
             q *= DQuat::from_rotation_z(vb.y.atan2(vb.x));
         }
     }
-    let lowest =
-        crate::sim::hydro::lowest_clearance(&stone, DVec3::ZERO, q, &crate::sim::law::FlatSurface);
+    let lowest = stoneskip_physics::sim::hydro::lowest_clearance(
+        &stone,
+        DVec3::ZERO,
+        q,
+        &stoneskip_physics::sim::law::FlatSurface,
+    );
     p.launch.position[2] = TOUCH_GAP - lowest;
 }
 
@@ -378,7 +382,7 @@ pub struct Point {
     pub skips: usize,
     /// m, along the ground from the launch point to where it ended.
     pub distance: f64,
-    /// Why it ended in words ([`crate::sim::ending()`]: "too slow to skip", "dug in nose-down at
+    /// Why it ended in words ([`stoneskip_physics::sim::ending()`]: "too slow to skip", "dug in nose-down at
     /// touch 3 (tilt -1.1°)", …), or why the throw could not start.
     pub outcome: String,
     /// Whether the numbers are the throw's result, not a bound of the simulation's (the lake's
@@ -403,7 +407,7 @@ pub struct Landing {
 }
 
 impl Landing {
-    fn of(c: &crate::sim::ContactEvent) -> Self {
+    fn of(c: &stoneskip_physics::sim::ContactEvent) -> Self {
         Self {
             tilt: c.attitude_in[0],
             bank: c.attitude_in[1],
@@ -476,7 +480,7 @@ pub fn run(base: &Preset, plan: &Plan, stop: &AtomicBool) -> Vec<Point> {
 
 /// One headless throw (the water left at rest, as `simulate` does), stopped early by `stop`.
 pub fn throw((value, second): (f64, Option<f64>), p: &Preset, stop: &AtomicBool) -> Point {
-    let mut sim = match crate::sim::Simulation::new(p) {
+    let mut sim = match stoneskip_physics::sim::Simulation::new(p) {
         Ok(s) => s,
         Err(e) => {
             return Point {
@@ -494,7 +498,7 @@ pub fn throw((value, second): (f64, Option<f64>), p: &Preset, stop: &AtomicBool)
     };
     sim.skip_unread_water();
     let s = sim.run(&mut |_| {}, &|| stop.load(Ordering::Relaxed));
-    let end = crate::sim::ending(&s);
+    let end = stoneskip_physics::sim::ending(&s);
     Point {
         value,
         second,
@@ -659,7 +663,7 @@ mod tests {
     use super::*;
 
     fn shipped(name: &str) -> Preset {
-        crate::preset::shipped(name).unwrap().unwrap()
+        stoneskip_physics::preset::shipped(name).unwrap().unwrap()
     }
 
     /// Issue 48, finding 5: the suggested sweeps step by round numbers (0–45° in 46 throws, not
@@ -759,7 +763,7 @@ mod tests {
             for beta in [3.0_f64, 10.0, 20.0, 45.0, 70.0] {
                 let p = Knob::ImpactAngle.set(&Knob::Tilt.set(&base, 25.0), beta);
                 assert!((Knob::ImpactAngle.get(&p) - beta).abs() < 1e-9);
-                let mut sim = crate::sim::Simulation::new(&p).unwrap();
+                let mut sim = stoneskip_physics::sim::Simulation::new(&p).unwrap();
                 while sim.contacts().is_empty() && !sim.is_finished() {
                     sim.tick();
                 }

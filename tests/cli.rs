@@ -185,7 +185,7 @@ fn text_summary_has_contact_table() {
 fn every_shipped_preset_loads_and_runs() {
     for entry in std::fs::read_dir("assets/presets").unwrap() {
         let path = entry.unwrap().path();
-        let p = stoneskip::preset::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let p = stoneskip_physics::preset::load(&path).unwrap_or_else(|e| panic!("{e}"));
         assert!(!p.name.is_empty());
     }
 }
@@ -265,7 +265,9 @@ fn sweep_writes_the_experiments_export_byte_for_byte() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let base = stoneskip::preset::shipped("magic_angle").unwrap().unwrap();
+    let base = stoneskip_physics::preset::shipped("magic_angle")
+        .unwrap()
+        .unwrap();
     let spec = Spec {
         knob: Knob::Tilt,
         from: 10.0,
@@ -366,7 +368,9 @@ fn a_two_value_sweep_writes_the_maps_export_byte_for_byte() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let base = stoneskip::preset::shipped("clanet_disc").unwrap().unwrap();
+    let base = stoneskip_physics::preset::shipped("clanet_disc")
+        .unwrap()
+        .unwrap();
     let plan = Plan {
         x: Spec {
             knob: Knob::Tilt,

@@ -12,10 +12,12 @@ use std::time::Duration;
 
 use stoneskip::app::model::{FrameBudget, Pace, PACE_WINDOW};
 use stoneskip::app::Model;
-use stoneskip::sim::params::{
+use stoneskip_physics::sim::params::{
     Attitude, ForceLaw, Integrator, Limiter, Precision, Preset, Rotation, Shape, Swell,
 };
-use stoneskip::sim::{simulate, ContactEvent, Simulation, StepSample, Summary, TickProgress};
+use stoneskip_physics::sim::{
+    simulate, ContactEvent, Simulation, StepSample, Summary, TickProgress,
+};
 
 /// Every number of a contact episode, as bits.
 fn contact_bits(c: &ContactEvent, out: &mut Vec<u64>) {
@@ -514,7 +516,7 @@ fn measure_frame_times_on_s1() {
     for (name, p) in [("s1", s1()), ("s1b", s1b())] {
         if let Ok(dir) = std::env::var("STONESKIP_GUARD_PRESETS") {
             let path = std::path::Path::new(&dir).join(format!("{name}.ron"));
-            stoneskip::preset::save(&path, &p).unwrap();
+            stoneskip_physics::preset::save(&path, &p).unwrap();
         }
         let mut model = Model::new(p.clone(), None, Default::default()).unwrap();
         model.throw();

@@ -11,8 +11,8 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
-use stoneskip::render::{Offscreen, PictureView, SceneStyle, SimulatedScene, ViewMode};
-use stoneskip::sim::params::Preset;
+use stoneskip_physics::sim::params::Preset;
+use stoneskip_render::{Offscreen, PictureView, SceneStyle, SimulatedScene, ViewMode};
 
 const W: u32 = 320;
 const H: u32 = 180;
@@ -21,7 +21,7 @@ const H: u32 = 180;
 /// (`tests/reference_images/throw.ron`) so the reference pictures do not move with the shipped one.
 fn default_preset() -> Preset {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference_images/throw.ron");
-    stoneskip::preset::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    stoneskip_physics::preset::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The offscreen renderer, or `None` when the tests are told to skip without an adapter.
@@ -249,7 +249,7 @@ fn render_to_png_writes_rgba8() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("shot.png");
     // A width whose rows need padding to 256 bytes on readback.
-    stoneskip::render::render_to_png(
+    stoneskip_render::render_to_png(
         &default_preset(),
         &out,
         203,
@@ -297,11 +297,7 @@ fn with_and_without_trail(
     state: &SimulatedScene,
     view: ViewMode,
     exaggeration: f32,
-) -> (
-    image::RgbaImage,
-    image::RgbaImage,
-    stoneskip::render::Camera,
-) {
+) -> (image::RgbaImage, image::RgbaImage, stoneskip_render::Camera) {
     let aspect = W as f32 / H as f32;
     let on = state.scene_for_view(SceneStyle::default(), view, exaggeration, aspect);
     let off_style = SceneStyle {
@@ -460,7 +456,7 @@ fn render_refuses_an_exaggeration_it_does_not_offer() {
         view: ViewMode::Side,
         exaggeration: 7.0,
     };
-    let e = stoneskip::render::render_to_png(
+    let e = stoneskip_render::render_to_png(
         &default_preset(),
         &dir.path().join("x.png"),
         64,
@@ -523,7 +519,7 @@ fn the_lakes_edges_show_as_a_sand_rim_in_every_camera() {
     let Some(mut off) = offscreen() else { return };
     // The shipped default's lake (the rim is drawn for any lake; this one is what users see first).
     let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/presets/default.ron");
-    let mut shipped = stoneskip::preset::load(&shipped).unwrap_or_else(|e| panic!("{e}"));
+    let mut shipped = stoneskip_physics::preset::load(&shipped).unwrap_or_else(|e| panic!("{e}"));
     // Its near edge 1 m behind the launch (2 m as shipped): the side view frames the trajectory,
     // whose length depends on the run, and a short run leaves a 2 m margin out of the frame.
     shipped.water.origin = Some([-1.0, -2.0]);
@@ -545,7 +541,7 @@ fn the_lakes_edges_show_as_a_sand_rim_in_every_camera() {
             ..SceneStyle::default()
         };
         let scene = state.scene_for_view(style, view, 10.0, aspect);
-        let rim = stoneskip::render::build::lake_rim(o, hi);
+        let rim = stoneskip_render::build::lake_rim(o, hi);
         assert!(
             rim.iter().all(|l| scene.lines.contains(l)),
             "{view:?}: the scene lacks the rim"
@@ -611,7 +607,7 @@ fn the_columns_two_cell_mode_is_not_drawn() {
     let (nx, ny) = (water.nx, water.ny);
     let mut picture = |heights: &[f32], revision: u64| {
         let mut scene = flat_scene.clone();
-        scene.water = Some(stoneskip::render::WaterView {
+        scene.water = Some(stoneskip_render::WaterView {
             heights,
             revision,
             ..water
@@ -656,8 +652,8 @@ fn the_columns_two_cell_mode_is_not_drawn() {
 }
 
 /// Whether `line` is one of the side view's attitude glyphs (by its colours).
-fn is_glyph(line: &stoneskip::render::Line) -> bool {
-    use stoneskip::render::build::{
+fn is_glyph(line: &stoneskip_render::Line) -> bool {
+    use stoneskip_render::build::{
         GLYPH_BANKED_COLOR, GLYPH_DUG_IN_COLOR, GLYPH_EDGE_COLOR, GLYPH_LEVEL_COLOR,
     };
     [
@@ -683,8 +679,8 @@ fn the_side_view_draws_the_stones_tilt_at_each_touch() {
     without.lines.retain(|l| !is_glyph(l));
     let glyphs = with.lines.len() - without.lines.len();
     let cam = with.camera;
-    let framing = stoneskip::render::build::framing_of(&state.sim, &state.trail, None);
-    let drawn = stoneskip::render::build::glyph_touches(&framing, state.sim.contacts(), &cam, None);
+    let framing = stoneskip_render::build::framing_of(&state.sim, &state.trail, None);
+    let drawn = stoneskip_render::build::glyph_touches(&framing, state.sim.contacts(), &cam, None);
     let touches = state.sim.contacts().iter().filter(|c| !c.graze).count();
     assert!(touches > 3);
     // Touches too close to tell apart at this scale share a glyph; most have their own.
@@ -695,7 +691,7 @@ fn the_side_view_draws_the_stones_tilt_at_each_touch() {
     );
     assert_eq!(
         glyphs,
-        drawn.len() * stoneskip::render::build::GLYPH_POINTS,
+        drawn.len() * stoneskip_render::build::GLYPH_POINTS,
         "{glyphs} glyph lines for {touches} touches"
     );
     let a = off.render(&with, w, h).unwrap();
@@ -705,7 +701,7 @@ fn the_side_view_draws_the_stones_tilt_at_each_touch() {
     }
     let mut seen = 0;
     for c in drawn.iter().map(|&i| &state.sim.contacts()[i]) {
-        let (centre, _) = stoneskip::render::build::glyph_centre(c, &cam);
+        let (centre, _) = stoneskip_render::build::glyph_centre(c, &cam);
         let q = cam.project(centre, w, h).unwrap();
         if q.x < 0.0 || q.x >= w as f32 || q.y < 0.0 || q.y >= h as f32 {
             continue;
@@ -734,8 +730,8 @@ fn the_exported_picture_has_a_legend_and_a_scale() {
         exaggeration: 10.0,
     };
     let (w, h) = (640u32, 360u32);
-    let plain = stoneskip::render::render_image(&preset, w, h, 4.0, view).unwrap();
-    let with = stoneskip::render::render_picture(&preset, w, h, 4.0, view).unwrap();
+    let plain = stoneskip_render::render_image(&preset, w, h, 4.0, view).unwrap();
+    let with = stoneskip_render::render_picture(&preset, w, h, 4.0, view).unwrap();
     if std::env::var("STONESKIP_KEEP_PICTURES").is_ok_and(|v| v == "1") {
         let _ = with.save(std::env::temp_dir().join("stoneskip-legend.png"));
     }
@@ -767,8 +763,8 @@ fn the_exported_picture_has_a_legend_and_a_scale() {
         10.0,
         w as f32 / h as f32,
     );
-    let framing = stoneskip::render::build::framing_of(&state.sim, &state.trail, None);
-    let legend = stoneskip::render::legend::legend_of(
+    let framing = stoneskip_render::build::framing_of(&state.sim, &state.trail, None);
+    let legend = stoneskip_render::legend::legend_of(
         &state.sim,
         ViewMode::Side,
         &scene.camera,
@@ -789,11 +785,8 @@ fn the_exported_picture_has_a_legend_and_a_scale() {
     );
     assert!(text.iter().any(|t| t.contains("tilt")), "{text:?}");
     // The behind view is in perspective: no scale.
-    assert!(stoneskip::render::legend::scale_bar(
-        ViewMode::Behind,
-        &scene.camera,
-        &framing,
-        (w, h)
-    )
-    .is_none());
+    assert!(
+        stoneskip_render::legend::scale_bar(ViewMode::Behind, &scene.camera, &framing, (w, h))
+            .is_none()
+    );
 }

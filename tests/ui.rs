@@ -11,8 +11,8 @@ use egui::accesskit::Role;
 use egui_kittest::kittest::{NodeT as _, Queryable};
 use egui_kittest::Harness;
 use stoneskip::app::{Model, Options};
-use stoneskip::preset;
 use stoneskip::ui::Phase;
+use stoneskip_physics::preset;
 
 /// One frame at 60 fps; a person types about five keys a second, so 12 frames between keys.
 const FRAMES_PER_KEY: usize = 12;
@@ -184,7 +184,7 @@ fn the_throw_button_throws_and_the_readouts_show_the_headless_result() {
     let p = preset::shipped("magic_angle")
         .expect("shipped")
         .expect("valid");
-    let headless = stoneskip::sim::simulate(&p).expect("a run");
+    let headless = stoneskip_physics::sim::simulate(&p).expect("a run");
     assert_eq!(readout(&h, "Skips"), headless.skips.to_string());
     assert_eq!(
         readout(&h, "Distance"),
@@ -643,8 +643,8 @@ fn what_if_throws_of_the_default_stay_on_its_lake() {
             ..Spec::suggested(knob)
         };
         for x in spec.values() {
-            let s = stoneskip::sim::simulate(&knob.set(&base, x)).expect("a run");
-            if s.outcome == Some(stoneskip::sim::Outcome::LeftDomain) {
+            let s = stoneskip_physics::sim::simulate(&knob.set(&base, x)).expect("a run");
+            if s.outcome == Some(stoneskip_physics::sim::Outcome::LeftDomain) {
                 left.push(format!("{} {x}", knob.name()));
             }
         }
@@ -737,7 +737,7 @@ fn digits_typed_after_a_click_beside_a_field_keep_the_camera() {
     pause(&mut h, 2);
     h.key_press(egui::Key::Num3);
     pause(&mut h, 2);
-    assert_eq!(h.state().view_mode, stoneskip::render::ViewMode::Side);
+    assert_eq!(h.state().view_mode, stoneskip_render::ViewMode::Side);
 }
 
 /// Issue 48, finding 2: the readouts say why a throw ended, from its last touch.
@@ -790,7 +790,7 @@ fn the_contacts_table_fits_its_panel() {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let mut moon = model("default", dir.path());
     let mut p = moon.sim.preset().clone();
-    stoneskip::sim::world::World::Moon.apply(&mut p.physics);
+    stoneskip_physics::sim::world::World::Moon.apply(&mut p.physics);
     let mut m = Model::new(p, None, Options::default()).expect("the model");
     m.library = std::mem::take(&mut moon.library);
     m.out_dir = moon.out_dir.clone();
@@ -869,7 +869,7 @@ fn a_nose_down_ending_is_marked_in_the_side_view() {
     h.get_by_role_and_label(Role::Button, "Throw").click();
     until_outcome(&mut h, 20_000);
     let ending = h.state().sim.ending();
-    let stoneskip::sim::ending::Ending::NoseDown { touch, tilt } = ending else {
+    let stoneskip_physics::sim::ending::Ending::NoseDown { touch, tilt } = ending else {
         panic!("the 0.18 kg throw ended {ending:?}, not nose-down");
     };
     assert!(tilt < 0.0);
@@ -885,7 +885,7 @@ fn a_nose_down_ending_is_marked_in_the_side_view() {
     // The label stands in the view, and the red glyph is drawn at that touch.
     let view = h.state().view_rect;
     assert!(view.contains(label.rect().center()), "{:?}", label.rect());
-    let red = stoneskip::render::build::GLYPH_DUG_IN_COLOR;
+    let red = stoneskip_render::build::GLYPH_DUG_IN_COLOR;
     let scene = h.state().scene();
     let at = h.state().sim.contacts()[touch - 1];
     let glyph: Vec<_> = scene.lines.iter().filter(|l| l.color == red).collect();
@@ -1094,7 +1094,7 @@ fn the_attitude_chart_shows_the_tilt_at_a_landing() {
     assert_eq!(choice, Some(Attitude::FirstTilt));
     let e = h.state().experiment.as_ref().expect("an experiment");
     for p in e.points.iter().flatten() {
-        let s = stoneskip::sim::simulate(&Knob::Mass.set(&e.base, p.value)).expect("a run");
+        let s = stoneskip_physics::sim::simulate(&Knob::Mass.set(&e.base, p.value)).expect("a run");
         let first = s.contacts.first().expect("a touch").attitude_in[0];
         let last = s.contacts.last().expect("a touch").attitude_in[0];
         assert_eq!(Attitude::FirstTilt.of(p), Some(first));

@@ -6,7 +6,7 @@
 use serde::Serialize;
 use serde_json::Value;
 
-use crate::sim::params::Launch;
+use stoneskip_physics::sim::params::Launch;
 
 /// Relative difference below which two numbers count as equal (slider round trips through
 /// degrees and rev/s change the last digits).
@@ -168,7 +168,7 @@ fn diff_values(path: &str, a: &Value, b: &Value, out: &mut Vec<Difference>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::params::{Preset, Shape};
+    use stoneskip_physics::sim::params::{Preset, Shape};
 
     #[test]
     fn an_untouched_preset_differs_nowhere() {

@@ -1,5 +1,5 @@
 //! Experiments: one launch value (speed, tilt, spin, height or mass) swept over a range, each
-//! throw run headless ([`crate::sim::simulate`], the same calls as `stoneskip simulate`) with the
+//! throw run headless ([`stoneskip_physics::sim::simulate`], the same calls as `stoneskip simulate`) with the
 //! current physics, in the background on all cores but one (the view keeps its own), results
 //! arriving as they finish. A class finds the magic angle or the minimal speed for itself
 //! (Clanet et al. 2004's curves, drawn from its own throws). No window or GPU type here.
@@ -13,7 +13,7 @@ use std::time::Instant;
 use anyhow::{Context as _, Result};
 use rayon::prelude::*;
 
-use crate::sim::params::Preset;
+use stoneskip_physics::sim::params::Preset;
 
 pub use crate::sweep::{Attitude, Knob, Plan, Point, Spec, MAX_SIDE, MAX_THROWS};
 
@@ -163,7 +163,7 @@ mod tests {
     use super::*;
 
     fn shipped(name: &str) -> Preset {
-        crate::preset::shipped(name).unwrap().unwrap()
+        stoneskip_physics::preset::shipped(name).unwrap().unwrap()
     }
 
     #[test]
@@ -234,7 +234,7 @@ mod tests {
         assert!(e.finished());
         for (p, point) in e.presets.iter().zip(&e.points) {
             let point = point.as_ref().unwrap();
-            let s = crate::sim::simulate(p).unwrap();
+            let s = stoneskip_physics::sim::simulate(p).unwrap();
             assert_eq!((point.skips, point.distance), (s.skips, s.distance));
             assert_eq!(point.value, p.launch.attitude.tilt_deg);
         }

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, Result};
 
 use crate::report::CsvWriter;
-use crate::sim::{Simulation, StepSample};
 use crate::ui::file_stem_for;
+use stoneskip_physics::sim::{Simulation, StepSample};
 
 /// The folder for exports: `overridden`, else `~/Pictures/stoneskip` (or Documents), else the
 /// platform's data folder for stoneskip, else the home folder, else the temporary folder.
@@ -144,7 +144,7 @@ mod tests {
     #[test]
     fn the_csv_names_the_preset_and_its_units() {
         let dir = tempfile::tempdir().unwrap();
-        let mut preset = crate::sim::params::Preset::version_1();
+        let mut preset = stoneskip_physics::sim::params::Preset::version_1();
         preset.water.enabled = false;
         let mut sim = Simulation::new(&preset).unwrap();
         let mut samples = Vec::new();

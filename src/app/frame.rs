@@ -14,11 +14,11 @@ use super::model::{Model, Shot};
 use super::platform::{App, Gfx, Recoveries};
 use super::redraw::{self, PanelTiles};
 use super::soak::{MAX_THROW_FRAMES, SOAK_SPEED};
-use crate::render::legend;
-use crate::render::offscreen::read_rgba8;
-use crate::render::Viewport;
-use crate::sim::Outcome;
 use crate::ui::{Message, Phase};
+use stoneskip_physics::sim::Outcome;
+use stoneskip_render::legend;
+use stoneskip_render::offscreen::read_rgba8;
+use stoneskip_render::Viewport;
 
 impl App {
     pub(super) fn frame(&mut self, event_loop: &ActiveEventLoop) {

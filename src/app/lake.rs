@@ -3,9 +3,9 @@
 //! with the water grid. With wavy contact the real track differs from the flat-water one, so the
 //! check keeps a margin ([`WARN_MARGIN`]) and the fit a larger one ([`FIT_MARGIN`]).
 
-use crate::sim::params::{Preset, MAX_WATER_COLUMNS};
-use crate::sim::scenario::fit_water_to_throw;
-use crate::sim::Simulation;
+use stoneskip_physics::sim::params::{Preset, MAX_WATER_COLUMNS};
+use stoneskip_physics::sim::scenario::fit_water_to_throw;
+use stoneskip_physics::sim::Simulation;
 
 /// The flat-water track coming closer than this to an edge (m) counts as leaving the lake.
 pub const WARN_MARGIN: f64 = 0.5;

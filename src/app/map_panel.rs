@@ -25,7 +25,7 @@ pub const MAP_TRANSFORM: &str = "experiment map transform";
 /// The magic attack angle (°): Clanet et al. (2004) found the slowest skip near 20° of tilt.
 pub const MAGIC_TILT_DEG: f64 = 20.0;
 /// Above this impact angle (°) no stone bounced in Clanet et al. (2004).
-pub const NO_BOUNCE_ABOVE_DEG: f64 = crate::sim::ending::STEEPEST_BOUNCE_DEG;
+pub const NO_BOUNCE_ABOVE_DEG: f64 = stoneskip_physics::sim::ending::STEEPEST_BOUNCE_DEG;
 
 /// The colour of `skips` on a scale up to `max` skips: grey for none, then viridis (dark blue
 /// through green to yellow), which reads in order and in grey print.

@@ -36,12 +36,12 @@ use std::time::Instant;
 use anyhow::{anyhow, Result};
 use winit::event_loop::EventLoop;
 
-use crate::preset;
-use crate::sim::params::Preset;
 use crate::ui::PresetLibrary;
 pub use model::Model;
 pub use options::Options;
 use platform::App;
+use stoneskip_physics::preset;
+use stoneskip_physics::sim::params::Preset;
 
 /// Opens the app with `preset` (or the shipped default) and runs until the window closes, or for
 /// `frames` frames (smoke tests: then exits 0).

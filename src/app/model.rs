@@ -17,17 +17,19 @@ use super::files;
 use super::lake::{self, Rect};
 use super::options::Options;
 use super::replay::ReplayLog;
-use crate::preset;
-use crate::render::build::{self, aim_preview, framing_of, ghost_lines, side_guides, thinned};
-use crate::render::camera::{camera_for, Framing, ViewMode};
-use crate::render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
-use crate::sim::params::{Integrator, Launch, Preset, Rotation};
-use crate::sim::stone::reported_attitude;
-use crate::sim::{LakeJob as LakeWork, Simulation, StepSample, SteppedLake, TickProgress};
 use crate::ui::{
     contact_kind, slide_distance, Action, ContactKind, FrameTiming, Message, Phase, PlotSeries,
     PresetLibrary, Readouts, Section, ViewRequest, ViewSettings,
 };
+use stoneskip_physics::preset;
+use stoneskip_physics::sim::params::{Integrator, Launch, Preset, Rotation};
+use stoneskip_physics::sim::stone::reported_attitude;
+use stoneskip_physics::sim::{
+    LakeJob as LakeWork, Simulation, StepSample, SteppedLake, TickProgress,
+};
+use stoneskip_render::build::{self, aim_preview, framing_of, ghost_lines, side_guides, thinned};
+use stoneskip_render::camera::{camera_for, Framing, ViewMode};
+use stoneskip_render::{Camera, Scene, SceneStyle, Trail, WaterHeights};
 
 /// Most simulated time one frame may run (s, at the highest playback speed); the rest is skipped.
 pub const MAX_SIM_PER_FRAME: f64 = 0.25;
@@ -173,7 +175,7 @@ const DENSEST_ROCK: f64 = 5300.0;
 
 /// The stone's volume from its shape (m³), when the shape has a closed form.
 fn stone_volume(p: &Preset) -> Option<f64> {
-    use crate::sim::params::Shape;
+    use stoneskip_physics::sim::params::Shape;
     let v = match p.stone.shape {
         Shape::Disk { radius, thickness } => std::f64::consts::PI * radius * radius * thickness,
         Shape::Lens { radius, thickness } => {
@@ -322,13 +324,13 @@ pub struct Ghost {
 #[derive(Debug, Clone, Default)]
 pub struct Shown {
     pub readouts: Readouts,
-    pub contacts: Vec<crate::sim::ContactEvent>,
+    pub contacts: Vec<stoneskip_physics::sim::ContactEvent>,
     pub plots: [Vec<egui_plot::PlotPoint>; 4],
     pub plot_end: f64,
     pub timing: FrameTiming,
     /// The outcome in a word or two, for the top bar ("sank").
     pub outcome: Option<String>,
-    /// Why the throw ended, in full ([`crate::sim::ending()`]), for the contacts table.
+    /// Why the throw ended, in full ([`stoneskip_physics::sim::ending()`]), for the contacts table.
     pub ending: Option<String>,
     pub dropping_now: bool,
     pub dropped_total: f64,
@@ -389,7 +391,7 @@ pub struct Model {
     pub pace: Pace,
     /// A physics edit made while a tick was in progress: applied when that tick is complete (so
     /// that a replay, which applies it between ticks, gives the same run).
-    deferred_physics: Option<crate::sim::params::Physics>,
+    deferred_physics: Option<stoneskip_physics::sim::params::Physics>,
     /// Changes whenever `sim` is rebuilt.
     pub generation: u64,
     pub phase: Phase,
@@ -1346,7 +1348,7 @@ impl Model {
     }
 
     /// A live change of the physics, recorded for replay.
-    fn apply_physics(&mut self, physics: crate::sim::params::Physics) {
+    fn apply_physics(&mut self, physics: stoneskip_physics::sim::params::Physics) {
         match self.sim.set_physics(physics) {
             Ok(()) => {
                 self.clock.set_step(physics.dt);

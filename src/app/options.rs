@@ -23,7 +23,7 @@
 
 use std::path::PathBuf;
 
-use crate::render::camera::{ViewMode, EXAGGERATIONS};
+use stoneskip_render::camera::{ViewMode, EXAGGERATIONS};
 
 /// Everything the environment can set, parsed once.
 #[derive(Debug, Clone, PartialEq)]

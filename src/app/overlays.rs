@@ -5,9 +5,9 @@
 use egui::{Align2, Color32, FontId, RichText};
 
 use super::model::Model;
-use crate::render::build;
-use crate::render::camera::ViewMode;
 use crate::ui::{self, Action, Phase};
+use stoneskip_render::build;
+use stoneskip_render::camera::ViewMode;
 
 /// The side view's legend: its ticks and its stone glyphs (drawn at the true angle whatever the
 /// exaggeration; coloured by bank, [`build::glyph_color`]).
@@ -332,7 +332,7 @@ mod tests {
     use crate::app::Options;
 
     /// The throw run to its end in the app's model, with its readouts refreshed.
-    fn finished(p: crate::sim::params::Preset) -> Model {
+    fn finished(p: stoneskip_physics::sim::params::Preset) -> Model {
         let mut m = Model::new(p, None, Options::default()).unwrap();
         m.throw();
         while !m.sim.is_finished() {
@@ -367,7 +367,9 @@ mod tests {
     /// shipped default, whose last contact is a short slide into the sink, does not.
     #[test]
     fn a_long_glide_is_flagged_in_the_view() {
-        let default = crate::preset::shipped("default").unwrap().unwrap();
+        let default = stoneskip_physics::preset::shipped("default")
+            .unwrap()
+            .unwrap();
         assert_eq!(finished(default.clone()).glide_words(), None);
         // Quasi-steady contact on flat water (the water's lag off): a fast throw planes away.
         let mut p = default;

@@ -10,10 +10,10 @@ use glam::Vec2;
 use super::edits::{launch_differences, section_differences, Difference};
 use super::lake;
 use super::model::{gesture_launch, Model};
-use crate::render::build::ghost_color;
-use crate::render::camera::{ViewMode, EXAGGERATIONS};
-use crate::sim::params::Rotation;
 use crate::ui::{self, Action, GhostRow, Phase, Section, SimControls, ViewRequest};
+use stoneskip_physics::sim::params::Rotation;
+use stoneskip_render::build::ghost_color;
+use stoneskip_render::camera::{ViewMode, EXAGGERATIONS};
 
 /// The side panels' widths (points): a wide table scrolls inside its panel rather than narrowing
 /// the 3D view (issue 39: the contacts table took it from 635 to 433 px of a 1280 px window).

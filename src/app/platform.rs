@@ -22,11 +22,11 @@ use winit::window::{Window, WindowId};
 use super::model::Model;
 use super::options::{FaultKind, Options};
 use super::soak::Soak;
-use crate::render::gpu::{
+use crate::ui;
+use stoneskip_render::gpu::{
     describe_adapter, no_adapter_error, request_adapter, request_device, Gpu,
 };
-use crate::render::{RendererConfig, SceneRenderer};
-use crate::ui;
+use stoneskip_render::{RendererConfig, SceneRenderer};
 
 /// The app: the model, the window once it exists, and the frame loop's bookkeeping.
 pub struct App {
@@ -344,7 +344,7 @@ fn msaa_samples(adapter: &wgpu::Adapter, format: wgpu::TextureFormat, asked: Opt
     }
     let color = adapter.get_texture_format_features(format).flags;
     let depth = adapter
-        .get_texture_format_features(crate::render::renderer::DEPTH_FORMAT)
+        .get_texture_format_features(stoneskip_render::renderer::DEPTH_FORMAT)
         .flags;
     if color.sample_count_supported(4) && depth.sample_count_supported(4) {
         4

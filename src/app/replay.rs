@@ -3,8 +3,8 @@
 //! changes at the same ticks, so the replay is bit-identical to the original run (design §4: the
 //! app and the command line make the same calls).
 
-use crate::sim::params::{Physics, Preset};
-use crate::sim::Simulation;
+use stoneskip_physics::sim::params::{Physics, Preset};
+use stoneskip_physics::sim::Simulation;
 
 /// The last throw and its live changes.
 #[derive(Debug, Clone, Default)]
@@ -81,8 +81,8 @@ impl ReplayLog {
 #[cfg(test)]
 mod tests {
     use super::super::model::Model;
-    use crate::sim::params::Preset;
-    use crate::sim::Summary;
+    use stoneskip_physics::sim::params::Preset;
+    use stoneskip_physics::sim::Summary;
 
     /// A small lake so the test runs in a moment; the coupling to the water is on.
     fn preset() -> Preset {
@@ -121,11 +121,11 @@ mod tests {
         assert!(first.outcome.is_some());
         model.replay();
         let again = run_in_app(&mut model, None);
-        let headless = crate::sim::simulate(&p).unwrap();
+        let headless = stoneskip_physics::sim::simulate(&p).unwrap();
         // PartialEq on the f64 fields: bit for bit (no NaN in a summary). The headless run leaves
         // the water at rest when the stone does not read it; the app steps it for the rings.
         assert_eq!(first, again);
-        let stone_only = |s: &crate::sim::Summary| crate::sim::Summary {
+        let stone_only = |s: &stoneskip_physics::sim::Summary| stoneskip_physics::sim::Summary {
             water: None,
             ..s.clone()
         };
@@ -144,7 +144,7 @@ mod tests {
         model.throw();
         let changed = run_in_app(&mut model, Some(0.1));
         // The live change is a different run from the preset's …
-        assert_ne!(changed, crate::sim::simulate(&p).unwrap());
+        assert_ne!(changed, stoneskip_physics::sim::simulate(&p).unwrap());
         // … and the replay repeats it exactly, although nobody touches the panel now.
         model.edit.physics.gravity = p.physics.gravity;
         model.replay();

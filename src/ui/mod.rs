@@ -2,7 +2,7 @@
 //! constants, the water, the simulation controls, presets, and the readouts (numbers, contacts,
 //! plots, frame time, export).
 //!
-//! Panels edit plain data (the [`Preset`](crate::sim::params::Preset) being prepared, the view
+//! Panels edit plain data (the [`Preset`](stoneskip_physics::sim::params::Preset) being prepared, the view
 //! settings) and report what the user asked for as [`Action`]s; the app carries them out. Every
 //! slider's range lies inside what `Preset::validate` accepts; angles are shown in degrees and spin
 //! in rev/s, converted to radians and rad/s here.

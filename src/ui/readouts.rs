@@ -7,7 +7,7 @@ use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoint, PlotPoints};
 use glam::DVec3;
 
 use super::{Action, FrameTiming, Readouts};
-use crate::sim::{ContactEvent, StepSample, TANG_BOUNCE_G};
+use stoneskip_physics::sim::{ContactEvent, StepSample, TANG_BOUNCE_G};
 
 /// Time series for the plots, thinned: every step in contact, every 2 ms in flight.
 #[derive(Debug, Clone, Default)]
@@ -581,7 +581,7 @@ mod tests {
     fn sample(time: f64, fz: f64) -> StepSample {
         StepSample {
             time,
-            state: crate::sim::integrate::BodyState {
+            state: stoneskip_physics::sim::integrate::BodyState {
                 position: DVec3::ZERO,
                 velocity: DVec3::X,
                 orientation: glam::DQuat::IDENTITY,

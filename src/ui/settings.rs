@@ -4,12 +4,12 @@
 
 use egui::{Slider, SliderClamping, Ui};
 
-use crate::sim::params::{
+use stoneskip_physics::sim::params::{
     AirParams, AxialSpin, ForceLaw, Hydrostatic, Integrator, LagLength, Launch, Limiter,
     MemoryParams, Physics, Precision, PressureSign, Quadrature, Rotation, Shape, StoneParams,
     Swell, WaterParams, MAX_WATER_COLUMNS,
 };
-pub use crate::sim::world::World;
+pub use stoneskip_physics::sim::world::World;
 
 use super::ViewSettings;
 
@@ -665,7 +665,7 @@ fn bands_ui(ui: &mut Ui, stone: &mut StoneParams) -> egui::Response {
             stone.bands = if auto {
                 None
             } else {
-                Some(crate::sim::stone::lens_bands(stone.segments, None).min(128))
+                Some(stoneskip_physics::sim::stone::lens_bands(stone.segments, None).min(128))
             };
         }
         if let Some(bands) = stone.bands.as_mut() {
@@ -1481,7 +1481,7 @@ mod tests {
     }
 
     use crate::app::edits::{launch_differences, section_differences, Difference};
-    use crate::sim::params::Preset;
+    use stoneskip_physics::sim::params::Preset;
 
     fn marks_of(d: &[Difference]) -> Marks {
         Marks::new(d.iter().map(|d| (d.field.as_str(), d.preset.as_str())))

@@ -11,11 +11,11 @@ use super::camera::{throw_heading, Camera, Framing};
 use super::scene::{
     Line, Marker, Scene, SceneStyle, Splash, StoneView, WaterView, SPLASH_DURATION,
 };
-use crate::sim::ending::{Ending, EDGE_BANK_DEG};
-use crate::sim::launch_arc;
-use crate::sim::params::Preset;
-use crate::sim::stone::Stone;
-use crate::sim::{ContactEvent, Simulation, StepSample};
+use stoneskip_physics::sim::ending::{Ending, EDGE_BANK_DEG};
+use stoneskip_physics::sim::launch_arc;
+use stoneskip_physics::sim::params::Preset;
+use stoneskip_physics::sim::stone::Stone;
+use stoneskip_physics::sim::{ContactEvent, Simulation, StepSample};
 
 /// The scene of `sim` now. `pose` overrides the stone's pose (the app's interpolation between
 /// two ticks); `heights` must have been refreshed from `sim`.
@@ -337,7 +337,7 @@ pub const GLYPH_THICKNESS: f64 = 0.25;
 /// The glyph's size on screen: its diameter a share of the view's height.
 pub const GLYPH_SHARE: f32 = 0.055;
 
-/// The touch (counted from 1, as [`crate::sim::ending::Ending`] counts) where the throw dug in
+/// The touch (counted from 1, as [`stoneskip_physics::sim::ending::Ending`] counts) where the throw dug in
 /// nose-down, if it ended so.
 pub fn dug_in_touch(sim: &Simulation) -> Option<usize> {
     match sim.ending() {
@@ -577,7 +577,7 @@ mod tests {
     }
 
     use super::*;
-    use crate::sim::integrate::BodyState;
+    use stoneskip_physics::sim::integrate::BodyState;
 
     fn sample(t: f64, x: f64, in_contact: bool) -> StepSample {
         StepSample {
@@ -743,7 +743,8 @@ mod tests {
 
     #[test]
     fn splashes_fade_out() {
-        let mut sim = Simulation::new(&crate::sim::params::Preset::version_1()).unwrap();
+        let mut sim =
+            Simulation::new(&stoneskip_physics::sim::params::Preset::version_1()).unwrap();
         while sim.contacts().is_empty() && sim.time() < 2.0 {
             sim.tick();
         }

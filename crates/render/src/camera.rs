@@ -11,7 +11,7 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::sim::params::Preset;
+use stoneskip_physics::sim::params::Preset;
 
 /// Vertical field of view of every view (radians).
 pub const FOV_Y: f32 = 50.0 * std::f32::consts::PI / 180.0;

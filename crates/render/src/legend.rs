@@ -10,7 +10,7 @@ use glam::Vec3;
 use image::{Rgba, RgbaImage};
 
 use super::camera::{Camera, Framing, ViewMode};
-use crate::sim::Simulation;
+use stoneskip_physics::sim::Simulation;
 
 /// Text height (px) of a legend line in a picture 1280 px wide; scaled with the picture.
 const TEXT_PX: f32 = 16.0;

@@ -25,11 +25,8 @@ pub use offscreen::Offscreen;
 pub use renderer::{RendererConfig, SceneRenderer, Viewport};
 pub use scene::{Line, Scene, SceneStyle, WaterView};
 
-/// The physics, under the name the renderer's modules use (`crate::sim`).
-use stoneskip_physics::sim;
-
-use crate::sim::params::Preset;
-use crate::sim::{SimError, Simulation};
+use stoneskip_physics::sim::params::Preset;
+use stoneskip_physics::sim::{SimError, Simulation};
 
 /// Why a picture could not be made.
 #[derive(Debug, thiserror::Error)]

@@ -5,7 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
-use crate::sim::stone::Mesh;
+use stoneskip_physics::sim::stone::Mesh;
 
 /// Faces meeting at more than this angle keep a hard edge (a disc's rim, a plate's corners).
 pub const CREASE_DEG: f64 = 50.0;
@@ -95,9 +95,9 @@ pub fn grid_indices(mx: u32, my: u32) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::params::{Shape, StoneParams};
-    use crate::sim::stone::Stone;
     use glam::Vec3;
+    use stoneskip_physics::sim::params::{Shape, StoneParams};
+    use stoneskip_physics::sim::stone::Stone;
 
     #[test]
     fn stone_normals_point_outward() {

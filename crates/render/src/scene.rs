@@ -6,7 +6,7 @@
 use glam::{DQuat, DVec3, Vec3};
 
 use super::camera::Camera;
-use crate::sim::stone::Mesh;
+use stoneskip_physics::sim::stone::Mesh;
 
 /// How long a splash cue lasts after a contact begins (s of simulated time).
 pub const SPLASH_DURATION: f64 = 0.9;
