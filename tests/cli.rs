@@ -235,13 +235,35 @@ fn preset_by_shipped_name() {
     );
 }
 
+/// The Experiments panel's export of `plan` on `base` (run in the background as the app runs it,
+/// then written as the panel's Export CSV writes it), as bytes.
+#[cfg(feature = "app")]
+fn panel_export(
+    base: &stoneskip_physics::sim::params::Preset,
+    plan: impl Into<stoneskip::sweep::Plan>,
+    dir: &Path,
+) -> Vec<u8> {
+    let mut e = stoneskip::app::experiments::Experiment::start(base, base, plan);
+    let t0 = std::time::Instant::now();
+    while !e.finished() {
+        assert!(
+            t0.elapsed().as_secs() < 300,
+            "the panel's experiment did not finish"
+        );
+        e.poll();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let panel = dir.join("panel.csv");
+    e.write_csv(&panel).unwrap();
+    std::fs::read(&panel).unwrap()
+}
+
 /// Issue 48: `stoneskip sweep` writes the table the Experiments panel exports, byte for byte
 /// (one compute and one writer serve both), and says in plain words what it does. The panel is
 /// the app's (the `app` feature).
 #[cfg(feature = "app")]
 #[test]
 fn sweep_writes_the_experiments_export_byte_for_byte() {
-    use stoneskip::app::experiments::Experiment;
     use stoneskip::sweep::{Knob, Spec};
     let dir = tempfile::tempdir().unwrap();
     let cli = dir.path().join("cli.csv");
@@ -274,22 +296,10 @@ fn sweep_writes_the_experiments_export_byte_for_byte() {
         to: 40.0,
         count: 4,
     };
-    let mut e = Experiment::start(&base, &base, spec);
-    let t0 = std::time::Instant::now();
-    while !e.finished() {
-        assert!(
-            t0.elapsed().as_secs() < 300,
-            "the panel's sweep did not finish"
-        );
-        e.poll();
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    let panel = dir.path().join("panel.csv");
-    e.write_csv(&panel).unwrap();
-    let (a, b) = (std::fs::read(&cli).unwrap(), std::fs::read(&panel).unwrap());
+    let a = std::fs::read(&cli).unwrap();
     assert_eq!(
         String::from_utf8_lossy(&a),
-        String::from_utf8_lossy(&b),
+        String::from_utf8_lossy(&panel_export(&base, spec, dir.path())),
         "the command and the panel differ"
     );
     let text = String::from_utf8(a).unwrap();
@@ -336,7 +346,6 @@ fn sweep_writes_the_experiments_export_byte_for_byte() {
 #[cfg(feature = "app")]
 #[test]
 fn a_two_value_sweep_writes_the_maps_export_byte_for_byte() {
-    use stoneskip::app::experiments::Experiment;
     use stoneskip::sweep::{Knob, Plan, Spec};
     let dir = tempfile::tempdir().unwrap();
     let cli = dir.path().join("cli.csv");
@@ -385,22 +394,10 @@ fn a_two_value_sweep_writes_the_maps_export_byte_for_byte() {
             count: 3,
         }),
     };
-    let mut e = Experiment::start(&base, &base, plan);
-    let t0 = std::time::Instant::now();
-    while !e.finished() {
-        assert!(
-            t0.elapsed().as_secs() < 300,
-            "the panel's map did not finish"
-        );
-        e.poll();
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    let panel = dir.path().join("panel.csv");
-    e.write_csv(&panel).unwrap();
-    let (a, b) = (std::fs::read(&cli).unwrap(), std::fs::read(&panel).unwrap());
+    let a = std::fs::read(&cli).unwrap();
     assert_eq!(
         String::from_utf8_lossy(&a),
-        String::from_utf8_lossy(&b),
+        String::from_utf8_lossy(&panel_export(&base, plan, dir.path())),
         "the command and the panel differ"
     );
     let text = String::from_utf8(a).unwrap();
