@@ -40,6 +40,15 @@ fn harness_sized(m: Model, size: [f32; 2]) -> Harness<'static, Model> {
     harness_with(m, size, true)
 }
 
+/// The app at 1280 × 720 with `preset` loaded and the Experiments panel opened by its button.
+fn experiments_open(preset: &str, dir: &Path) -> Harness<'static, Model> {
+    let mut h = harness_sized(model(preset, dir), [1280.0, 720.0]);
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Experiments").click();
+    h.run_ok();
+    h
+}
+
 /// The harness; `check_names`: every settle (`run_ok`) also checks that each widget on screen
 /// has an accessible name. The monkey leaves it off: it reaches states (rows that appear with
 /// a switch) whose names `the_physics_panel_leads_with_what_a_class_changes` does not cover, and
@@ -762,10 +771,7 @@ fn the_outcome_readout_says_why_the_throw_ended() {
 #[test]
 fn experiments_leave_the_view_most_of_the_height() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    let mut h = harness_sized(model("default", dir.path()), [1280.0, 720.0]);
-    h.run_ok();
-    h.get_by_role_and_label(Role::Button, "Experiments").click();
-    h.run_ok();
+    let mut h = experiments_open("default", dir.path());
     assert!(h.state().show_experiments);
     // With results on its charts, as a class sees it.
     type_into(&mut h, "Throws", "3");
@@ -964,10 +970,7 @@ fn until_experiment_done(h: &mut Harness<'_, Model>) {
 fn a_map_of_tilt_and_impact_angle_runs_and_a_cell_watches_its_throw() {
     use stoneskip::app::experiments::Knob;
     let dir = tempfile::tempdir().expect("a temporary folder");
-    let mut h = harness_sized(model("clanet_disc", dir.path()), [1280.0, 720.0]);
-    h.run_ok();
-    h.get_by_role_and_label(Role::Button, "Experiments").click();
-    h.run_ok();
+    let mut h = experiments_open("clanet_disc", dir.path());
     h.get_by_role_and_label(Role::CheckBox, "Map a second value")
         .click();
     h.run_ok();
@@ -1031,10 +1034,7 @@ fn a_map_of_tilt_and_impact_angle_runs_and_a_cell_watches_its_throw() {
 #[test]
 fn a_400_cell_map_stops_when_asked() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    let mut h = harness_sized(model("default", dir.path()), [1280.0, 720.0]);
-    h.run_ok();
-    h.get_by_role_and_label(Role::Button, "Experiments").click();
-    h.run_ok();
+    let mut h = experiments_open("default", dir.path());
     h.get_by_role_and_label(Role::CheckBox, "Map a second value")
         .click();
     h.run_ok();
@@ -1070,10 +1070,7 @@ fn a_400_cell_map_stops_when_asked() {
 fn the_attitude_chart_shows_the_tilt_at_a_landing() {
     use stoneskip::app::experiments::{Attitude, Knob, Spec};
     let dir = tempfile::tempdir().expect("a temporary folder");
-    let mut h = harness_sized(model("default", dir.path()), [1280.0, 720.0]);
-    h.run_ok();
-    h.get_by_role_and_label(Role::Button, "Experiments").click();
-    h.run_ok();
+    let mut h = experiments_open("default", dir.path());
     h.state_mut().experiment_draft = Spec {
         knob: Knob::Mass,
         from: 0.16,
