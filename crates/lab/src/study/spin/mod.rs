@@ -236,7 +236,7 @@ pub fn spin_limited(points: &[CountPoint]) -> (Vec<(f64, f64)>, Vec<(f64, f64)>)
 
 /// Everything the spin part measures.
 #[derive(Debug, Clone)]
-pub struct CentreResult {
+pub struct SpinResult {
     pub map: Vec<SpinPoint>,
     /// Spin threshold at VC-13's tilt: (rev/s, first-contact duration s).
     pub threshold: Option<(f64, f64)>,
@@ -259,7 +259,7 @@ pub fn run(ctx: &Ctx) -> Result<String, StudyError> {
     let vc12 = spin_point(VC12_TILT_DEG, VC12_SPIN_REV_S)?;
     let vc12_no_spin = spin_point(VC12_TILT_DEG, 0.0)?;
     let counts = spin_counts(&g.curve_spins)?;
-    let results = [CentreResult {
+    let results = [SpinResult {
         map,
         threshold,
         vc12,

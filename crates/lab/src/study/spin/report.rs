@@ -2,7 +2,7 @@
 //! the Markdown section the phase report appends.
 
 use super::{
-    fit_exponent, spin_limited, CentreResult, CountPoint, SpinGrid, SpinPoint, CENTRE_KEY,
+    fit_exponent, spin_limited, CountPoint, SpinGrid, SpinPoint, SpinResult, CENTRE_KEY,
     CENTRE_NAME, MAP_BETA_DEG, MAP_SPEED, REV, TYPICAL_RADIUS,
 };
 use crate::study::plot::{
@@ -13,7 +13,7 @@ use crate::study::table::{md_table, sig, Csv};
 use crate::study::{Ctx, StudyError};
 
 /// Writes the CSVs and charts; returns the Markdown section.
-pub fn write(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<String, StudyError> {
+pub fn write(ctx: &Ctx, g: &SpinGrid, results: &[SpinResult]) -> Result<String, StudyError> {
     write_csvs(ctx, results)?;
     map_figure(ctx, g, results)?;
     count_figure(ctx, g, results)?;
@@ -29,7 +29,7 @@ fn map_threshold(g: &SpinGrid, map: &[SpinPoint], tilt: f64) -> Option<f64> {
 }
 
 /// spin_map.csv and spin_counts.csv.
-fn write_csvs(ctx: &Ctx, results: &[CentreResult]) -> Result<(), StudyError> {
+fn write_csvs(ctx: &Ctx, results: &[SpinResult]) -> Result<(), StudyError> {
     let mut csv = Csv::new(&[
         "centre",
         "tilt_deg",
@@ -82,7 +82,7 @@ fn write_csvs(ctx: &Ctx, results: &[CentreResult]) -> Result<(), StudyError> {
 }
 
 /// spin_tilt.png: the skips over spin × tilt per pressure centre, with the threshold curves.
-fn map_figure(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), StudyError> {
+fn map_figure(ctx: &Ctx, g: &SpinGrid, results: &[SpinResult]) -> Result<(), StudyError> {
     let tilt_edges = half_steps(&g.tilts);
     let spin_edges = half_steps(&g.spins);
     let mut panels = Vec::new();
@@ -160,7 +160,7 @@ fn map_figure(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), S
 }
 
 /// spin_count.png: skips and rebounds of the typical stone against spin.
-fn count_figure(ctx: &Ctx, g: &SpinGrid, results: &[CentreResult]) -> Result<(), StudyError> {
+fn count_figure(ctx: &Ctx, g: &SpinGrid, results: &[SpinResult]) -> Result<(), StudyError> {
     let mut chart = Chart::new(
         "typical stone (R 5 cm, 150 g, 12 m/s, α 15°): skips against spin",
         "spin Ω (rev/s)",
@@ -232,7 +232,7 @@ fn drops(counts: &[CountPoint], value: impl Fn(&CountPoint) -> f64) -> usize {
         .count()
 }
 
-fn report(g: &SpinGrid, results: &[CentreResult]) -> String {
+fn report(g: &SpinGrid, results: &[SpinResult]) -> String {
     let mut s = String::from("## Spin axis: the stone as a free rigid body\n\n");
     s.push_str(&format!(
         "`rotation: Free`, Rosellini law. Map: Clanet's disc at U {MAP_SPEED} m/s, β {MAP_BETA_DEG}°, tilt {}–{}°, spin {}–{} rev/s; a cell counts the skips of the whole run. The pressure acts at each wetted face's centroid (the paper's eqs. 25–26); Savitsky's planing centre, compared here until issue 40, is retired, and its rows are in docs/studies/retired.md. Published (VC-12, VC-13): without spin the disc pitches nose-down and dives; about one revolution per contact is enough to skip; at 65 rev/s, α = β = 20°, α stays nearly constant through the contact.\n\n",
